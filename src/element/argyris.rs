@@ -1,0 +1,1 @@
+//! The Argyris triangle (in progress).

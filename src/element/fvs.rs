@@ -1,0 +1,1 @@
+//! The reduced Fraeijs de Veubeke–Sanders quadrilateral (in progress).

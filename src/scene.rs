@@ -1,0 +1,440 @@
+//! A scene: the full parameter set of one simulation (SPEC §4, §5), with serde so that the Rust
+//! library, the examples, the FMU and the Python scripts share one definition.
+//!
+//! Field paths match the FMU variable names: `plate.length`, `solver.time_step`, …  The named
+//! scenes of the paper live as JSON files in `scenes/` (embedded here at compile time) and are
+//! read by Python as well.
+
+use crate::element::ElementKind;
+use crate::error::Error;
+use serde::{Deserialize, Serialize};
+
+/// Plate geometry (m). The span `length` runs from the clamped edge x = 0 to the free edge x = Lx.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plate {
+    /// Lx (m), default 0.4.
+    pub length: f64,
+    /// Ly (m), default 0.2.
+    pub width: f64,
+    /// Full thickness e (m), default 0.01.
+    pub thickness: f64,
+}
+
+/// Homogeneous isotropic material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// E (Pa), default 2.1e11.
+    pub young_modulus: f64,
+    /// ν (1), default 0.3.
+    pub poisson_ratio: f64,
+    /// ρ (kg/m³), default 7770.
+    pub density: f64,
+}
+
+/// Structured mesh of the rectangle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    /// Element family: triangles for Argyris, quadrilaterals for FVS.
+    pub element: ElementKind,
+    /// Cells along x.
+    pub nx: usize,
+    /// Cells along y.
+    pub ny: usize,
+}
+
+/// Which solver handles the contact QP of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum QpChoice {
+    /// Accept the unconstrained step when it is feasible, else the active-set method on the
+    /// Delassus operator, with clarabel as the fallback.
+    Auto,
+    /// clarabel on every step that has constraints (the reference).
+    Clarabel,
+}
+
+/// How the linear part of a step is solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LinearChoice {
+    /// Modal when the free dofs are few enough for a dense eigenbasis, else sparse.
+    Auto,
+    /// Dense M-orthonormal eigenbasis of the clamped plate: scalar recurrences per mode.
+    Modal,
+    /// Sparse Cholesky factorisation of A = M + ½Δt²K.
+    Sparse,
+}
+
+/// Time-stepping settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Solver {
+    /// Δt (s), default 1e-4.
+    pub time_step: f64,
+    /// Restitution coefficient e ∈ [0, 1] of the Paoli–Schatzman scheme, default 0 (the paper).
+    pub restitution: f64,
+    /// Contact QP solver, default `auto`.
+    #[serde(default = "default_qp")]
+    pub qp: QpChoice,
+    /// Linear backend, default `auto`.
+    #[serde(default = "default_linear")]
+    pub linear: LinearChoice,
+}
+
+fn default_qp() -> QpChoice {
+    QpChoice::Auto
+}
+fn default_linear() -> LinearChoice {
+    LinearChoice::Auto
+}
+
+/// The two rigid flat obstacles g1 ≤ u ≤ g2 (SPEC §1).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Obstacles {
+    /// Whether the lower obstacle exists.
+    pub lower_enabled: bool,
+    /// Whether the upper obstacle exists.
+    pub upper_enabled: bool,
+    /// g1 (m), < 0, default −0.01.
+    pub lower: f64,
+    /// g2 (m), > 0, default 0.01.
+    pub upper: f64,
+}
+
+/// Transverse pressure during the motion.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Load {
+    /// p (Pa), positive upwards, default 0.
+    pub pressure: f64,
+}
+
+/// Initial state: static equilibrium under a preload, released at rest.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Initial {
+    /// Pressure (Pa) whose static equilibrium (with contact, if it pushes into an obstacle) is u₀.
+    pub preload_pressure: f64,
+}
+
+/// Built-in base motion z(t) = c sin(2π f t), added to the FMU input `base.displacement`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Base {
+    /// c (m), default 0.
+    pub amplitude: f64,
+    /// f (Hz), default 10.
+    pub frequency: f64,
+}
+
+/// A full parameter set.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Geometry.
+    pub plate: Plate,
+    /// Material.
+    pub material: Material,
+    /// Mesh.
+    pub mesh: MeshSpec,
+    /// Time stepping.
+    pub solver: Solver,
+    /// Obstacles.
+    pub obstacle: Obstacles,
+    /// Load during the motion.
+    pub load: Load,
+    /// Initial state.
+    pub initial: Initial,
+    /// Built-in base motion.
+    pub base: Base,
+    /// Horizon (s) used by examples and as the FMU's default stop time.
+    pub stop_time: f64,
+}
+
+impl Default for Scene {
+    /// The FMU's start values (SPEC §5): the steel plate of SPEC §4 on a 10 × 7 Argyris mesh, at
+    /// rest between obstacles at ±0.01 m, with no load and no built-in base motion.
+    fn default() -> Scene {
+        Scene {
+            plate: Plate {
+                length: 0.4,
+                width: 0.2,
+                thickness: 0.01,
+            },
+            material: Material {
+                young_modulus: 2.1e11,
+                poisson_ratio: 0.3,
+                density: 7770.0,
+            },
+            mesh: MeshSpec {
+                element: ElementKind::Argyris,
+                nx: 10,
+                ny: 7,
+            },
+            solver: Solver {
+                time_step: 1e-4,
+                restitution: 0.0,
+                qp: QpChoice::Auto,
+                linear: LinearChoice::Auto,
+            },
+            obstacle: Obstacles {
+                lower_enabled: true,
+                upper_enabled: true,
+                lower: -0.01,
+                upper: 0.01,
+            },
+            load: Load { pressure: 0.0 },
+            initial: Initial {
+                preload_pressure: 0.0,
+            },
+            base: Base {
+                amplitude: 0.0,
+                frequency: 10.0,
+            },
+            stop_time: 1.0,
+        }
+    }
+}
+
+/// The named scenes shipped in `scenes/`, as (name, JSON text).
+pub const NAMED_SCENES: [(&str, &str); 4] = [
+    ("forced", include_str!("../scenes/forced.json")),
+    ("forced-30hz", include_str!("../scenes/forced-30hz.json")),
+    ("forced-35hz", include_str!("../scenes/forced-35hz.json")),
+    ("energy", include_str!("../scenes/energy.json")),
+];
+
+/// Largest number of cells along one side of a structured mesh: beyond it the dense parts of the
+/// setup (point location, Delassus operator) would take minutes, which no FMU host expects.
+pub const MAX_CELLS_PER_SIDE: usize = 400;
+
+impl Scene {
+    /// Parses a scene from JSON (every field required, unknown fields rejected) and validates it.
+    pub fn from_json(text: &str) -> Result<Scene, Error> {
+        let scene: Scene = serde_json::from_str(text).map_err(|e| {
+            Error::invalid(
+                "scene",
+                "<json>",
+                &format!("is not a valid scene file ({e})"),
+            )
+        })?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// One of the [`NAMED_SCENES`], or the FMU defaults for `default`.
+    pub fn named(name: &str) -> Result<Scene, Error> {
+        if name == "default" {
+            return Ok(Scene::default());
+        }
+        let (_, text) = NAMED_SCENES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = NAMED_SCENES.iter().map(|(n, _)| *n).collect();
+                Error::invalid(
+                    "scene",
+                    name,
+                    &format!("must be default or one of {names:?}"),
+                )
+            })?;
+        Scene::from_json(text)
+    }
+
+    /// Sets one parameter by its dotted FMU-style name (`mesh.nx`, `solver.qp`, `stop_time`…) from
+    /// text: numbers, booleans and enumeration names are accepted as they would be written in JSON
+    /// (enumerations without quotes). The scene is validated afterwards.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), Error> {
+        let mut tree = serde_json::to_value(&*self).expect("a scene always serializes");
+        let mut slot = &mut tree;
+        for part in key.split('.') {
+            slot = slot
+                .get_mut(part)
+                .ok_or_else(|| Error::invalid(key, value, "is not a scene parameter"))?;
+        }
+        let parsed = serde_json::from_str(value)
+            .unwrap_or_else(|_| serde_json::Value::String(value.to_string()));
+        *slot = parsed;
+        let updated: Scene = serde_json::from_value(tree)
+            .map_err(|e| Error::invalid(key, value, &format!("has the wrong type ({e})")))?;
+        updated.validate()?;
+        *self = updated;
+        Ok(())
+    }
+
+    /// Bending stiffness D = E e³ / (12 (1 − ν²)) (N·m).
+    pub fn bending_stiffness(&self) -> f64 {
+        let m = &self.material;
+        m.young_modulus * self.plate.thickness.powi(3)
+            / (12.0 * (1.0 - m.poisson_ratio * m.poisson_ratio))
+    }
+
+    /// Mass per unit area ρ e (kg/m²).
+    pub fn areal_mass(&self) -> f64 {
+        self.material.density * self.plate.thickness
+    }
+
+    /// Built-in base displacement c sin(2π f t) (m).
+    pub fn builtin_base(&self, t: f64) -> f64 {
+        self.base.amplitude * (2.0 * std::f64::consts::PI * self.base.frequency * t).sin()
+    }
+
+    /// Enabled lower obstacle level, if any.
+    pub fn lower_obstacle(&self) -> Option<f64> {
+        self.obstacle.lower_enabled.then_some(self.obstacle.lower)
+    }
+
+    /// Enabled upper obstacle level, if any.
+    pub fn upper_obstacle(&self) -> Option<f64> {
+        self.obstacle.upper_enabled.then_some(self.obstacle.upper)
+    }
+
+    /// Checks every parameter against its range; the error names the parameter and the limit.
+    pub fn validate(&self) -> Result<(), Error> {
+        let positive = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::invalid(name, v, "must be finite and > 0"))
+            }
+        };
+        let finite = |name: &str, v: f64| {
+            if v.is_finite() {
+                Ok(())
+            } else {
+                Err(Error::invalid(name, v, "must be finite"))
+            }
+        };
+        positive("plate.length", self.plate.length)?;
+        positive("plate.width", self.plate.width)?;
+        positive("plate.thickness", self.plate.thickness)?;
+        let shorter_side = self.plate.length.min(self.plate.width);
+        if self.plate.thickness > shorter_side {
+            return Err(Error::invalid(
+                "plate.thickness",
+                self.plate.thickness,
+                &format!("must not exceed the shorter side {shorter_side} m (Kirchhoff–Love is a thin-plate model)"),
+            ));
+        }
+        positive("material.young_modulus", self.material.young_modulus)?;
+        let nu = self.material.poisson_ratio;
+        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+            return Err(Error::invalid(
+                "material.poisson_ratio",
+                nu,
+                "must lie in (-1, 0.5) for a stable isotropic material",
+            ));
+        }
+        positive("material.density", self.material.density)?;
+        for (name, n) in [("mesh.nx", self.mesh.nx), ("mesh.ny", self.mesh.ny)] {
+            if n == 0 || n > MAX_CELLS_PER_SIDE {
+                return Err(Error::invalid(
+                    name,
+                    n,
+                    &format!("must lie in [1, {MAX_CELLS_PER_SIDE}]"),
+                ));
+            }
+        }
+        positive("solver.time_step", self.solver.time_step)?;
+        let e = self.solver.restitution;
+        if !(0.0..=1.0).contains(&e) {
+            return Err(Error::invalid(
+                "solver.restitution",
+                e,
+                "must lie in [0, 1]",
+            ));
+        }
+        finite("obstacle.lower", self.obstacle.lower)?;
+        finite("obstacle.upper", self.obstacle.upper)?;
+        if self.obstacle.lower_enabled && self.obstacle.lower >= 0.0 {
+            return Err(Error::invalid(
+                "obstacle.lower",
+                self.obstacle.lower,
+                "must be < 0 (the plate starts at u = 0 between the obstacles)",
+            ));
+        }
+        if self.obstacle.upper_enabled && self.obstacle.upper <= 0.0 {
+            return Err(Error::invalid(
+                "obstacle.upper",
+                self.obstacle.upper,
+                "must be > 0 (the plate starts at u = 0 between the obstacles)",
+            ));
+        }
+        finite("load.pressure", self.load.pressure)?;
+        finite("initial.preload_pressure", self.initial.preload_pressure)?;
+        let c = self.base.amplitude;
+        if !(c.is_finite() && c >= 0.0) {
+            return Err(Error::invalid(
+                "base.amplitude",
+                c,
+                "must be finite and >= 0",
+            ));
+        }
+        let f = self.base.frequency;
+        if !(f.is_finite() && f >= 0.0) {
+            return Err(Error::invalid(
+                "base.frequency",
+                f,
+                "must be finite and >= 0",
+            ));
+        }
+        let half_gap = [self.lower_obstacle().map(|g| -g), self.upper_obstacle()]
+            .into_iter()
+            .flatten()
+            .fold(f64::INFINITY, f64::min);
+        if c > 0.0 && c >= half_gap {
+            return Err(Error::invalid(
+                "base.amplitude",
+                c,
+                &format!(
+                    "must be < {half_gap} m so that the base sine stays strictly inside the gap"
+                ),
+            ));
+        }
+        positive("stop_time", self.stop_time)?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn named_scenes_parse_and_validate() {
+        for (name, _) in NAMED_SCENES {
+            Scene::named(name).unwrap();
+        }
+        Scene::default().validate().unwrap();
+    }
+
+    #[test]
+    fn set_changes_one_field_and_rejects_bad_values_by_name() {
+        let mut s = Scene::default();
+        s.set("mesh.element", "fvs").unwrap();
+        s.set("mesh.nx", "14").unwrap();
+        s.set("solver.qp", "clarabel").unwrap();
+        assert_eq!(s.mesh.element, ElementKind::Fvs);
+        assert_eq!(s.mesh.nx, 14);
+        assert_eq!(s.solver.qp, QpChoice::Clarabel);
+        let err = s.set("material.poisson_ratio", "0.5").unwrap_err();
+        assert!(err.to_string().contains("material.poisson_ratio"), "{err}");
+        assert!(s.set("plate.colour", "1").is_err());
+        assert_eq!(
+            s.material.poisson_ratio, 0.3,
+            "a rejected value leaves the scene unchanged"
+        );
+    }
+
+    #[test]
+    fn base_amplitude_must_stay_inside_the_gap() {
+        let mut s = Scene::default();
+        assert!(s.set("base.amplitude", "0.0099").is_ok());
+        let err = s.set("base.amplitude", "0.01").unwrap_err();
+        assert!(err.to_string().contains("base.amplitude"));
+    }
+}
