@@ -8,7 +8,7 @@
 //!
 //! whose dimension is 12, with unisolvent dofs (w, w_x, w_y) at the four vertices (Fraeijs de
 //! Veubeke, "A conforming finite element for plate bending", Int. J. Solids Struct. 4 (1968);
-//! Ciarlet, *The Finite Element Method for Elliptic Problems*, §6.1, "reduced" FVS element).
+//! Ciarlet, *The Finite Element Method for Elliptic Problems*, ch. 6, on composite C¹ elements).
 //!
 //! Construction (`notes/elements.md`, "Reduced FVS quadrilateral"): per element, in physical
 //! coordinates scaled about the centre, ξ = (x − C)/s with s = maxₖ |Pₖ − C|, each basis function
@@ -29,8 +29,8 @@
 //! sharing an edge therefore agree in value and gradient along it, and the assembled space is C¹.
 //!
 //! Approximation: V contains P₂, but not P₃ — a general cubic has a quadratic normal derivative
-//! along the edges. (On an axis-parallel rectangle V also contains x³ and y³; on a general quad
-//! no cubic beyond P₂.) The interpolation error is therefore O(h) in the H² seminorm (energy)
+//! along the edges. (On an axis-parallel rectangle V also contains x³ and y³, as the tests check;
+//! with four different edge directions the four conditions generically exclude every cubic.) The interpolation error is therefore O(h) in the H² seminorm (energy)
 //! and the eigenvalues converge like O(h²) (`notes/elements.md`); the full 16-dof FVS element,
 //! which adds the edge-midpoint normal derivatives, contains P₃.
 
