@@ -25,18 +25,23 @@ pub const REFERENCE_TOLERANCE: f64 = 1e-12;
 /// The Clarabel settings of the reference solve. Every departure from Clarabel's defaults, and why:
 ///
 /// * `tol_gap_abs`, `tol_gap_rel`, `tol_feas` = [`REFERENCE_TOLERANCE`] (default 1e-8). An
-///   interior-point solution at duality gap μ sits about √μ-to-μ off the active bounds in the
-///   scaled variables; the defaults leave errors of about 3e-6 m on a 32-contact Argyris step, far
-///   from the 1e-9 m at which the fast path must agree with this reference.
+///   interior-point iterate stops short of the active bounds by an amount that shrinks with the
+///   gap; the defaults leave about 3e-6 m on a 32-contact Argyris step (issue 3), far from the
+///   1e-9 m at which the fast path must agree with this reference.
 /// * `tol_ktratio` = 1e-10 (default 1e-6): the κ/τ test of the homogeneous embedding must not stop
 ///   the solver before the gap and feasibility tests do.
 /// * `max_iter` = 500 (default 200): the tight tolerances take more iterations near the end.
 /// * `static_regularization_constant` = 1e-10 (default 1e-8) and iterative refinement with
 ///   `iterative_refinement_reltol` = 1e-15, `iterative_refinement_abstol` = 1e-15,
-///   `iterative_refinement_max_iter` = 50 (defaults 1e-13, 1e-12, 10): the KKT systems are solved
-///   with a regularised factorisation; refinement must remove the regularisation's bias down to
-///   round-off or the final iterates stall above the tolerances.
+///   `iterative_refinement_max_iter` = 50 (defaults 1e-13, 1e-12, 10): a margin, so that the
+///   regularised KKT solves are refined to round-off and cannot be what limits the accuracy.
+///   Measured, they change little: the tolerances do the work.
 /// * `verbose` = false: a library prints nothing.
+///
+/// Measured on the random problems of `tests/contact_qp.rs` (gap scale 1 cm, 10–60 bounds, ~20
+/// active), largest |x_clarabel − x_exact|: defaults 9.6e-6 m; the four tolerances alone 2.3e-10 m;
+/// these settings 2.3e-10 m; tolerances of 1e-13 1.9e-10 m and of 1e-14 3.6e-12 m (not chosen:
+/// untested on plate steps, where tolerances near round-off risk an `InsufficientProgress` stop).
 ///
 /// The reduced-accuracy tolerances stay at their defaults: a status of `AlmostSolved` is reported
 /// as an error by [`solve_box_qp`], never accepted as a reference.
