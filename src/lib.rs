@@ -4,9 +4,11 @@
 //! Map of the crate, in the one direction its dependencies run:
 //! * [`mesh`], [`quadrature`]: structured meshes of the rectangle and exact triangle rules;
 //! * [`element`]: the C¹ elements (Argyris triangle, reduced FVS quadrilateral);
+//! * [`contact`]: the box-constrained QP of each time step (active-set fast path, Clarabel reference);
 //! * [`scene`]: the parameter set shared by examples, the FMU and Python;
 //! * [`error`]: errors that name the parameter and the limit.
 
+pub mod contact;
 pub mod element;
 pub mod error;
 pub mod mesh;

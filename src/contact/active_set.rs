@@ -1,0 +1,750 @@
+//! The fast exact contact solver, in the Delassus space.
+//!
+//! With x* = A⁻¹ b the unconstrained step, y* = B x* its constrained values and
+//! W = B A⁻¹ Bᵀ (m × m, symmetric positive definite) the Delassus operator, the QP of
+//! [`crate::contact`] is equivalent to the mixed (box) linear complementarity problem
+//!
+//! y = y* + W λ,  lo ≤ y ≤ hi,  λ_i ≥ 0 if y_i = lo_i,  λ_i ≤ 0 if y_i = hi_i,  λ_i = 0 otherwise,
+//!
+//! and, equivalently, to the strictly convex box QP min ½ (y − y*)ᵀ W⁻¹ (y − y*) over lo ≤ y ≤ hi,
+//! whose gradient is λ. Its solution is unique.
+//!
+//! [`ActiveSetSolver`] solves it by the primal–dual active-set method, which is a semismooth Newton
+//! method on the complementarity function λ − max(0, λ + c (lo − y)) − min(0, λ + c (hi − y))
+//! (Hintermüller, Ito, Kunisch, *The primal–dual active set strategy as a semismooth Newton method*,
+//! SIAM J. Optim. 13(3), 2003): on a working set 𝒜 it solves W_𝒜𝒜 λ_𝒜 = bound_𝒜 − y*_𝒜 by a dense
+//! Cholesky factorisation, sets λ = 0 off 𝒜, and moves to 𝒜 the indices whose y violates a bound and
+//! out of 𝒜 those whose λ has the wrong sign. When the set repeats, the KKT conditions hold and the
+//! answer is the exact solution of a linear system: a finite identification, then a direct solve.
+//!
+//! PDAS converges from any start when W is an M-matrix, and locally superlinearly (in a finite number
+//! of steps near the solution) in general, but it can cycle for other SPD W. Cycling is detected
+//! (a working set seen before that is not the current one). The safeguard is then the primal
+//! active-set method for convex QP (Nocedal, Wright, *Numerical Optimization*, 2nd ed., Algorithm
+//! 16.3) applied to the y-space QP above: feasible iterates, a strictly decreasing objective under
+//! non-degeneracy, hence finite termination. Its equality-constrained subproblem is the same solve
+//! on W_𝒜𝒜, so it needs nothing more from W. If it too fails (iteration limit), the status tells
+//! the caller to fall back to [`crate::contact::clarabel`].
+//!
+//! Only the columns of W indexed by the working set are ever read, so a [`LazyDelassus`] computes
+//! (one A⁻¹ solve each) only the columns of vertices that have touched an obstacle.
+
+use super::BoundState;
+
+/// Column access to the Delassus operator W = B A⁻¹ Bᵀ (m × m, symmetric positive definite).
+pub trait Delassus {
+    /// m, the number of constrained values.
+    fn dim(&self) -> usize;
+    /// Column j of W, of length m. May compute and cache it on first access.
+    fn column(&mut self, j: usize) -> &[f64];
+}
+
+/// A precomputed dense W, column-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DenseDelassus {
+    dim: usize,
+    values: Vec<f64>,
+}
+
+impl DenseDelassus {
+    /// W from its m × m entries in column-major order.
+    ///
+    /// # Panics
+    /// If `values.len() != dim * dim`.
+    pub fn new(dim: usize, values: Vec<f64>) -> Self {
+        assert_eq!(values.len(), dim * dim, "DenseDelassus: need dim² values");
+        DenseDelassus { dim, values }
+    }
+
+    /// W with entries `entry(i, j)`.
+    pub fn from_fn(dim: usize, mut entry: impl FnMut(usize, usize) -> f64) -> Self {
+        let mut values = Vec::with_capacity(dim * dim);
+        for j in 0..dim {
+            for i in 0..dim {
+                values.push(entry(i, j));
+            }
+        }
+        DenseDelassus { dim, values }
+    }
+
+    /// Entry (i, j).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.values[i + j * self.dim]
+    }
+}
+
+impl Delassus for DenseDelassus {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn column(&mut self, j: usize) -> &[f64] {
+        &self.values[j * self.dim..(j + 1) * self.dim]
+    }
+}
+
+/// W computed column by column on first use and cached: `compute(j, out)` must write
+/// W e_j = B A⁻¹ Bᵀ e_j (length m) into `out`. W is constant while A and c are, so the cache
+/// outlives the time steps; call [`LazyDelassus::clear`] when they change.
+pub struct LazyDelassus<F> {
+    dim: usize,
+    compute: F,
+    /// Column j, or empty while not yet computed.
+    columns: Vec<Vec<f64>>,
+    computed: usize,
+}
+
+impl<F: FnMut(usize, &mut [f64])> LazyDelassus<F> {
+    /// An empty cache for an m × m operator.
+    pub fn new(dim: usize, compute: F) -> Self {
+        LazyDelassus {
+            dim,
+            compute,
+            columns: vec![Vec::new(); dim],
+            computed: 0,
+        }
+    }
+
+    /// How many columns have been computed so far.
+    pub fn columns_computed(&self) -> usize {
+        self.computed
+    }
+
+    /// Forget every cached column.
+    pub fn clear(&mut self) {
+        for c in &mut self.columns {
+            c.clear();
+        }
+        self.computed = 0;
+    }
+}
+
+impl<F: FnMut(usize, &mut [f64])> Delassus for LazyDelassus<F> {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn column(&mut self, j: usize) -> &[f64] {
+        if self.columns[j].is_empty() && self.dim > 0 {
+            let mut col = vec![0.0; self.dim];
+            (self.compute)(j, &mut col);
+            self.columns[j] = col;
+            self.computed += 1;
+        }
+        &self.columns[j]
+    }
+}
+
+/// Settings of [`ActiveSetSolver::solve`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PdasSettings {
+    /// Most PDAS iterations (linear solves) before giving up on PDAS.
+    pub max_iter: usize,
+    /// Relative tolerance of the KKT conditions. With s the gap scale (the largest finite |lo_i|,
+    /// |hi_i|, |y*_i|), a free y_i may exceed a bound by tol·s, and an active λ_i may have the wrong
+    /// sign by tol·s / W_ii (releasing it would move y_i by less than tol·s). Must cover the round-off
+    /// of the solve, about cond(W_𝒜𝒜)·ε.
+    pub tol: f64,
+    /// Run the primal active-set safeguard when PDAS cycles or reaches `max_iter`.
+    pub safeguard: bool,
+    /// Most safeguard iterations; 0 means 10 m + 50.
+    pub safeguard_max_iter: usize,
+}
+
+impl Default for PdasSettings {
+    /// `max_iter` 100, `tol` 1e-11, safeguard on with the default limit.
+    fn default() -> Self {
+        PdasSettings {
+            max_iter: 100,
+            tol: 1e-11,
+            safeguard: true,
+            safeguard_max_iter: 0,
+        }
+    }
+}
+
+/// How [`ActiveSetSolver::solve`] ended. Only the two `Solved*` statuses carry a solution; on any
+/// other the caller must fall back (to [`crate::contact::clarabel`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PdasStatus {
+    /// PDAS identified the active set; λ and y are exact up to round-off.
+    Solved,
+    /// PDAS cycled or ran out of iterations, and the primal active-set safeguard found the solution.
+    SolvedBySafeguard,
+    /// PDAS revisited an earlier working set (W is not an M-matrix), and the safeguard was off or
+    /// failed. No solution.
+    Cycled,
+    /// PDAS (and the safeguard, if on) reached its iteration limit. No solution.
+    MaxIterations,
+    /// A submatrix W_𝒜𝒜 was not numerically positive definite. No solution.
+    NotPositiveDefinite,
+    /// Bad data: lengths differ, lo_i > hi_i, or a NaN / infinite y*. No solution.
+    InvalidInput,
+}
+
+impl PdasStatus {
+    /// True when λ and y hold the solution.
+    pub fn is_solved(self) -> bool {
+        matches!(self, PdasStatus::Solved | PdasStatus::SolvedBySafeguard)
+    }
+}
+
+/// What one [`ActiveSetSolver::solve`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PdasReport {
+    /// The outcome.
+    pub status: PdasStatus,
+    /// PDAS iterations (one Cholesky solve each).
+    pub iterations: usize,
+    /// Safeguard iterations (0 when it did not run).
+    pub safeguard_iterations: usize,
+    /// Number of active indices at the end.
+    pub active: usize,
+}
+
+/// The owned result of [`solve_box_lcp`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct LcpSolution {
+    /// λ, length m (valid when the status is solved).
+    pub lambda: Vec<f64>,
+    /// y = y* + W λ, with y_i set exactly to its bound on active indices.
+    pub y: Vec<f64>,
+    /// The final states.
+    pub states: Vec<BoundState>,
+    /// Status and iteration counts.
+    pub report: PdasReport,
+}
+
+/// One-shot convenience over [`ActiveSetSolver`]: solve from the warm start `states` (all
+/// [`BoundState::Free`] for a cold start) and return owned vectors.
+pub fn solve_box_lcp<D: Delassus + ?Sized>(
+    w: &mut D,
+    y_star: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+    states: &[BoundState],
+    settings: &PdasSettings,
+) -> LcpSolution {
+    let mut solver = ActiveSetSolver::new();
+    let mut states = states.to_vec();
+    let report = solver.solve(w, y_star, lower, upper, &mut states, settings);
+    LcpSolution {
+        lambda: solver.lambda().to_vec(),
+        y: solver.y().to_vec(),
+        states,
+        report,
+    }
+}
+
+/// The Delassus-space active-set solver with its reusable workspace (see the module docs). Keep
+/// one per run: after the first steps, `solve` allocates nothing unless the active set grows past
+/// its largest size so far.
+#[derive(Clone, Debug, Default)]
+pub struct ActiveSetSolver {
+    lambda: Vec<f64>,
+    y: Vec<f64>,
+    /// Active indices of the current working set, in increasing order.
+    active: Vec<usize>,
+    /// Their bound values.
+    bound: Vec<f64>,
+    /// W_𝒜𝒜 then its Cholesky factor (lower, column-major, k × k).
+    factor: Vec<f64>,
+    /// Right-hand side, then λ_𝒜.
+    rhs: Vec<f64>,
+    /// Diagonal of W, valid on active indices.
+    diag: Vec<f64>,
+    /// Hashes of the working sets visited by PDAS in this solve.
+    history: Vec<u64>,
+    /// Safeguard: the feasible iterate.
+    y_iter: Vec<f64>,
+}
+
+/// Outcome of the solve on one working set.
+enum Sub {
+    Ok,
+    NotPd,
+}
+
+impl ActiveSetSolver {
+    /// An empty workspace.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// λ of the last solve (length m).
+    pub fn lambda(&self) -> &[f64] {
+        &self.lambda
+    }
+
+    /// y = y* + W λ of the last solve (length m), exactly on the bound at active indices.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Solve the box LCP y = y* + W λ, lo ≤ y ≤ hi with complementarity (module docs).
+    ///
+    /// `states` is the warm start on entry (the last step's active set; all
+    /// [`BoundState::Free`] for a cold start) and the final active set on exit. An entry that
+    /// names a missing bound (infinite) is read as free. λ and y are read with [`Self::lambda`]
+    /// and [`Self::y`]; they are the solution only when the returned status
+    /// [`PdasStatus::is_solved`].
+    pub fn solve<D: Delassus + ?Sized>(
+        &mut self,
+        w: &mut D,
+        y_star: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+    ) -> PdasReport {
+        let m = w.dim();
+        self.lambda.clear();
+        self.lambda.resize(m, 0.0);
+        self.y.clear();
+        self.y.extend_from_slice(&y_star[..m.min(y_star.len())]);
+        self.y.resize(m, 0.0);
+        self.diag.clear();
+        self.diag.resize(m, 0.0);
+        self.history.clear();
+        let mut report = PdasReport {
+            status: PdasStatus::InvalidInput,
+            iterations: 0,
+            safeguard_iterations: 0,
+            active: 0,
+        };
+        if y_star.len() != m || lower.len() != m || upper.len() != m || states.len() != m {
+            return report;
+        }
+        let mut scale = 0.0_f64;
+        for i in 0..m {
+            let (lo, hi, ys) = (lower[i], upper[i], y_star[i]);
+            if !ys.is_finite() || lo.is_nan() || hi.is_nan() || lo > hi {
+                return report;
+            }
+            if lo == f64::INFINITY || hi == f64::NEG_INFINITY {
+                return report;
+            }
+            scale = scale.max(ys.abs());
+            if lo.is_finite() {
+                scale = scale.max(lo.abs());
+            }
+            if hi.is_finite() {
+                scale = scale.max(hi.abs());
+            }
+            // A warm-start label on a missing bound means nothing: read it as free.
+            if (states[i] == BoundState::AtLower && !lo.is_finite())
+                || (states[i] == BoundState::AtUpper && !hi.is_finite())
+            {
+                states[i] = BoundState::Free;
+            }
+        }
+        let tol_y = settings.tol * scale.max(f64::MIN_POSITIVE);
+
+        // PDAS proper.
+        let mut hash = hash_states(states);
+        self.history.push(hash);
+        let mut fell_back = PdasStatus::MaxIterations;
+        while report.iterations < settings.max_iter {
+            report.iterations += 1;
+            if let Sub::NotPd = self.solve_working_set(w, y_star, lower, upper, states) {
+                report.status = PdasStatus::NotPositiveDefinite;
+                return report;
+            }
+            let mut changed = self.update_set(lower, upper, states, tol_y);
+            if !changed {
+                // Identified: refine λ once against round-off, then confirm.
+                self.refine(w, y_star);
+                changed = self.update_set(lower, upper, states, tol_y);
+                if !changed {
+                    self.snap_to_bounds(lower, upper, states);
+                    report.status = PdasStatus::Solved;
+                    report.active = self.active.len();
+                    return report;
+                }
+            }
+            hash = hash_states(states);
+            if self.history.contains(&hash) {
+                fell_back = PdasStatus::Cycled;
+                break;
+            }
+            self.history.push(hash);
+        }
+        report.status = fell_back;
+        if !settings.safeguard {
+            return report;
+        }
+        let limit = if settings.safeguard_max_iter == 0 {
+            10 * m + 50
+        } else {
+            settings.safeguard_max_iter
+        };
+        match self.primal_active_set(w, y_star, lower, upper, states, tol_y, limit) {
+            (Some(status), it) => {
+                report.safeguard_iterations = it;
+                if status == PdasStatus::SolvedBySafeguard {
+                    report.active = self.active.len();
+                    report.status = status;
+                } else if status == PdasStatus::NotPositiveDefinite {
+                    report.status = status;
+                }
+            }
+            (None, it) => report.safeguard_iterations = it,
+        }
+        report
+    }
+
+    /// For the working set `states`: λ_𝒜 = W_𝒜𝒜⁻¹ (bound_𝒜 − y*_𝒜), λ = 0 elsewhere,
+    /// y = y* + W λ. Leaves the Cholesky factor of W_𝒜𝒜 in `self.factor`.
+    fn solve_working_set<D: Delassus + ?Sized>(
+        &mut self,
+        w: &mut D,
+        y_star: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &[BoundState],
+    ) -> Sub {
+        let m = y_star.len();
+        self.active.clear();
+        self.bound.clear();
+        for (i, s) in states.iter().enumerate() {
+            match s {
+                BoundState::Free => {}
+                BoundState::AtLower => {
+                    self.active.push(i);
+                    self.bound.push(lower[i]);
+                }
+                BoundState::AtUpper => {
+                    self.active.push(i);
+                    self.bound.push(upper[i]);
+                }
+            }
+        }
+        let k = self.active.len();
+        self.factor.clear();
+        self.factor.resize(k * k, 0.0);
+        self.rhs.clear();
+        for q in 0..k {
+            let j = self.active[q];
+            let col = w.column(j);
+            self.diag[j] = col[j];
+            for (p, &i) in self.active.iter().enumerate() {
+                self.factor[p + q * k] = col[i];
+            }
+            self.rhs.push(self.bound[q] - y_star[j]);
+        }
+        if !cholesky_in_place(&mut self.factor, k) {
+            return Sub::NotPd;
+        }
+        cholesky_solve_in_place(&self.factor, k, &mut self.rhs);
+        self.lambda.fill(0.0);
+        self.y.copy_from_slice(&y_star[..m]);
+        for q in 0..k {
+            let j = self.active[q];
+            let l = self.rhs[q];
+            self.lambda[j] = l;
+            let col = w.column(j);
+            for (yi, ci) in self.y.iter_mut().zip(col) {
+                *yi += l * ci;
+            }
+        }
+        Sub::Ok
+    }
+
+    /// One step of iterative refinement of λ_𝒜 with the factor in place: r = bound_𝒜 − y_𝒜,
+    /// λ_𝒜 += W_𝒜𝒜⁻¹ r, y += W δλ.
+    fn refine<D: Delassus + ?Sized>(&mut self, w: &mut D, y_star: &[f64]) {
+        let k = self.active.len();
+        if k == 0 {
+            return;
+        }
+        for q in 0..k {
+            self.rhs[q] = self.bound[q] - self.y[self.active[q]];
+        }
+        cholesky_solve_in_place(&self.factor, k, &mut self.rhs);
+        for q in 0..k {
+            self.lambda[self.active[q]] += self.rhs[q];
+        }
+        // Recompute y from scratch rather than adding a correction: one rounding fewer.
+        self.y.copy_from_slice(y_star);
+        for q in 0..k {
+            let j = self.active[q];
+            let l = self.lambda[j];
+            let col = w.column(j);
+            for (yi, ci) in self.y.iter_mut().zip(col) {
+                *yi += l * ci;
+            }
+        }
+    }
+
+    /// The PDAS update (c → 0⁺ in the complementarity function): a free index whose y leaves the
+    /// box enters at the bound it crossed; an active index whose λ has the wrong sign leaves.
+    /// Returns whether the set changed.
+    fn update_set(
+        &self,
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        tol_y: f64,
+    ) -> bool {
+        let mut changed = false;
+        for i in 0..states.len() {
+            let next = match states[i] {
+                BoundState::Free => {
+                    if self.y[i] < lower[i] - tol_y {
+                        BoundState::AtLower
+                    } else if self.y[i] > upper[i] + tol_y {
+                        BoundState::AtUpper
+                    } else {
+                        BoundState::Free
+                    }
+                }
+                BoundState::AtLower => {
+                    if self.lambda[i] * self.diag[i] < -tol_y {
+                        BoundState::Free
+                    } else {
+                        BoundState::AtLower
+                    }
+                }
+                BoundState::AtUpper => {
+                    if self.lambda[i] * self.diag[i] > tol_y {
+                        BoundState::Free
+                    } else {
+                        BoundState::AtUpper
+                    }
+                }
+            };
+            if next != states[i] {
+                states[i] = next;
+                changed = true;
+            }
+        }
+        changed
+    }
+
+    fn snap_to_bounds(&mut self, lower: &[f64], upper: &[f64], states: &[BoundState]) {
+        for (i, s) in states.iter().enumerate() {
+            match s {
+                BoundState::Free => {}
+                BoundState::AtLower => self.y[i] = lower[i],
+                BoundState::AtUpper => self.y[i] = upper[i],
+            }
+        }
+    }
+
+    /// The safeguard: primal active set method on min ½ (y − y*)ᵀ W⁻¹ (y − y*), lo ≤ y ≤ hi,
+    /// from y = clip(y*). Returns the status (`None`: iteration limit) and the iteration count.
+    #[allow(clippy::too_many_arguments)]
+    fn primal_active_set<D: Delassus + ?Sized>(
+        &mut self,
+        w: &mut D,
+        y_star: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        tol_y: f64,
+        limit: usize,
+    ) -> (Option<PdasStatus>, usize) {
+        let m = y_star.len();
+        // Feasible start, the working set made of the bounds it sits on.
+        self.y_iter.clear();
+        for i in 0..m {
+            let yi = y_star[i].clamp(lower[i], upper[i]);
+            states[i] = if yi == lower[i] && y_star[i] < lower[i] {
+                BoundState::AtLower
+            } else if yi == upper[i] && y_star[i] > upper[i] {
+                BoundState::AtUpper
+            } else {
+                BoundState::Free
+            };
+            self.y_iter.push(yi);
+        }
+        let mut it = 0;
+        while it < limit {
+            it += 1;
+            if let Sub::NotPd = self.solve_working_set(w, y_star, lower, upper, states) {
+                return (Some(PdasStatus::NotPositiveDefinite), it);
+            }
+            // Step p = ŷ − y on the free indices (p = 0 on the working set).
+            let mut step = 0.0_f64;
+            for (i, s) in states.iter().enumerate() {
+                if *s == BoundState::Free {
+                    step = step.max((self.y[i] - self.y_iter[i]).abs());
+                }
+            }
+            if step <= tol_y {
+                // At the subproblem minimiser: optimal unless some multiplier has the wrong sign.
+                self.refine(w, y_star);
+                let mut worst = None;
+                let mut worst_val = tol_y;
+                for &i in &self.active {
+                    let v = match states[i] {
+                        BoundState::AtLower => -self.lambda[i] * self.diag[i],
+                        BoundState::AtUpper => self.lambda[i] * self.diag[i],
+                        BoundState::Free => 0.0,
+                    };
+                    if v > worst_val {
+                        worst_val = v;
+                        worst = Some(i);
+                    }
+                }
+                let feasible = (0..m).all(|i| {
+                    states[i] != BoundState::Free
+                        || (self.y[i] >= lower[i] - tol_y && self.y[i] <= upper[i] + tol_y)
+                });
+                match worst {
+                    None if feasible => {
+                        self.snap_to_bounds(lower, upper, states);
+                        return (Some(PdasStatus::SolvedBySafeguard), it);
+                    }
+                    None => {}
+                    Some(i) => states[i] = BoundState::Free,
+                }
+                for i in 0..m {
+                    self.y_iter[i] = self.y[i].clamp(lower[i], upper[i]);
+                }
+                continue;
+            }
+            // Longest feasible step along p, and the bound that blocks it.
+            let mut alpha = 1.0_f64;
+            let mut blocking = None;
+            for i in 0..m {
+                if states[i] != BoundState::Free {
+                    continue;
+                }
+                let p = self.y[i] - self.y_iter[i];
+                let (a, s) = if p < 0.0 && lower[i].is_finite() {
+                    (
+                        ((lower[i] - self.y_iter[i]) / p).max(0.0),
+                        BoundState::AtLower,
+                    )
+                } else if p > 0.0 && upper[i].is_finite() {
+                    (
+                        ((upper[i] - self.y_iter[i]) / p).max(0.0),
+                        BoundState::AtUpper,
+                    )
+                } else {
+                    continue;
+                };
+                if a < alpha {
+                    alpha = a;
+                    blocking = Some((i, s));
+                }
+            }
+            for i in 0..m {
+                let p = self.y[i] - self.y_iter[i];
+                self.y_iter[i] = (self.y_iter[i] + alpha * p).clamp(lower[i], upper[i]);
+            }
+            if let Some((i, s)) = blocking {
+                states[i] = s;
+                self.y_iter[i] = if s == BoundState::AtLower {
+                    lower[i]
+                } else {
+                    upper[i]
+                };
+            }
+        }
+        (None, it)
+    }
+}
+
+/// FNV-1a over the states: identifies a working set for cycle detection. A collision can only
+/// cause a premature fallback, never a wrong answer.
+fn hash_states(states: &[BoundState]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for s in states {
+        h ^= *s as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// Cholesky factorisation L Lᵀ of the k × k SPD matrix `a` (column-major, lower triangle read),
+/// in place in the lower triangle. False if a pivot is not positive.
+fn cholesky_in_place(a: &mut [f64], k: usize) -> bool {
+    for j in 0..k {
+        let d = a[j + j * k];
+        if d <= 0.0 || !d.is_finite() {
+            return false;
+        }
+        let d = d.sqrt();
+        a[j + j * k] = d;
+        for i in j + 1..k {
+            a[i + j * k] /= d;
+        }
+        // Right-looking update of the trailing lower triangle, column by column.
+        for c in j + 1..k {
+            let l = a[c + j * k];
+            if l == 0.0 {
+                continue;
+            }
+            let (left, right) = a.split_at_mut(c * k);
+            let src = &left[j * k..(j + 1) * k];
+            let dst = &mut right[..k];
+            for i in c..k {
+                dst[i] -= l * src[i];
+            }
+        }
+    }
+    true
+}
+
+/// Solve L Lᵀ x = r in place with the factor of [`cholesky_in_place`].
+fn cholesky_solve_in_place(l: &[f64], k: usize, r: &mut [f64]) {
+    for j in 0..k {
+        let v = r[j] / l[j + j * k];
+        r[j] = v;
+        for i in j + 1..k {
+            r[i] -= l[i + j * k] * v;
+        }
+    }
+    for j in (0..k).rev() {
+        let mut v = r[j];
+        for i in j + 1..k {
+            v -= l[i + j * k] * r[i];
+        }
+        r[j] = v / l[j + j * k];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cholesky_solves_a_small_system() {
+        // A = [[4, 2, 0], [2, 5, 1], [0, 1, 3]], x = [1, -1, 2].
+        let a = [4.0, 2.0, 0.0, 2.0, 5.0, 1.0, 0.0, 1.0, 3.0];
+        let x = [1.0, -1.0, 2.0];
+        let mut r = [0.0; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                r[i] += a[i + 3 * j] * x[j];
+            }
+        }
+        let mut f = a;
+        assert!(cholesky_in_place(&mut f, 3));
+        cholesky_solve_in_place(&f, 3, &mut r);
+        for i in 0..3 {
+            assert!((r[i] - x[i]).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn one_contact_by_hand() {
+        // W = [[2, 1], [1, 2]], y* = [-1, 0.5], lo = [0, -inf], hi = [inf, 1]:
+        // λ_0 = 1/2, y = [0, 1].
+        let mut w = DenseDelassus::new(2, vec![2.0, 1.0, 1.0, 2.0]);
+        let sol = solve_box_lcp(
+            &mut w,
+            &[-1.0, 0.5],
+            &[0.0, f64::NEG_INFINITY],
+            &[f64::INFINITY, 1.0],
+            &[BoundState::Free; 2],
+            &PdasSettings::default(),
+        );
+        assert_eq!(sol.report.status, PdasStatus::Solved);
+        assert!((sol.lambda[0] - 0.5).abs() < 1e-15 && sol.lambda[1] == 0.0);
+        assert_eq!(sol.states, [BoundState::AtLower, BoundState::Free]);
+        assert!((sol.y[1] - 1.0).abs() < 1e-15);
+    }
+}

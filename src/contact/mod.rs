@@ -1,0 +1,77 @@
+//! The contact problem of one time step (SPEC §3): a strictly convex QP with bounds on a subset of
+//! the unknowns,
+//!
+//! min ½ xᵀ A x − bᵀ x   subject to   lo_i ≤ x_{c_i} ≤ hi_i   (i = 0..m),
+//!
+//! with A sparse symmetric positive definite, c the constrained dofs (the plate vertices off the
+//! clamp), and any lo_i = −∞ or hi_i = +∞ (an absent obstacle). With B the m × n matrix that picks
+//! the rows c, the KKT conditions read
+//!
+//! A x = b + Bᵀ λ,  λ_i ≥ 0 where x_{c_i} = lo_i (the lower obstacle pushes up),
+//! λ_i ≤ 0 where x_{c_i} = hi_i, λ_i = 0 where lo_i < x_{c_i} < hi_i.
+//!
+//! Two solvers, one exact each:
+//! * [`active_set`]: the fast path, in the Delassus space y = B x. Given the unconstrained solution
+//!   x* = A⁻¹ b, y* = B x* and W = B A⁻¹ Bᵀ (reachable column by column through the [`Delassus`]
+//!   trait), it solves the box LCP y = y* + W λ by a primal–dual active-set (semismooth Newton)
+//!   method warm-started from the previous step, with a primal active-set safeguard; the caller then
+//!   sets x = x* + A⁻¹ Bᵀ λ.
+//! * [`clarabel`]: the reference, the full primal QP handed to the Clarabel interior-point solver with
+//!   tightened tolerances ([`clarabel::reference_settings`]).
+
+pub mod active_set;
+pub mod clarabel;
+
+pub use active_set::{
+    solve_box_lcp, ActiveSetSolver, Delassus, DenseDelassus, LazyDelassus, LcpSolution, PdasReport,
+    PdasSettings, PdasStatus,
+};
+
+use faer::sparse::SparseColMatRef;
+
+/// Where a constrained value sits relative to its bounds lo_i ≤ y_i ≤ hi_i: the working-set label
+/// of one index in the active-set methods, and the contact state of one vertex.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum BoundState {
+    /// Strictly between the bounds (or treated so): λ_i = 0.
+    #[default]
+    Free,
+    /// On the lower bound y_i = lo_i, with λ_i ≥ 0 (lower obstacle pushes up).
+    AtLower,
+    /// On the upper bound y_i = hi_i, with λ_i ≤ 0 (upper obstacle pushes down).
+    AtUpper,
+}
+
+impl BoundState {
+    /// True for [`BoundState::AtLower`] and [`BoundState::AtUpper`].
+    pub fn is_active(self) -> bool {
+        self != BoundState::Free
+    }
+}
+
+/// A box-constrained QP in the primal variables: min ½ xᵀ A x − bᵀ x subject to
+/// `lower[i] ≤ x[constrained[i]] ≤ upper[i]` (see the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct BoxQp<'a> {
+    /// A, n × n, symmetric positive definite, both triangles stored.
+    pub a: SparseColMatRef<'a, usize, f64>,
+    /// b, length n.
+    pub b: &'a [f64],
+    /// The constrained dofs c, length m, distinct, each < n.
+    pub constrained: &'a [usize],
+    /// lo, length m; `f64::NEG_INFINITY` for no lower bound.
+    pub lower: &'a [f64],
+    /// hi, length m; `f64::INFINITY` for no upper bound.
+    pub upper: &'a [f64],
+}
+
+/// The solution of a [`BoxQp`]: the minimiser, the multipliers and the contact states.
+#[derive(Clone, Debug, PartialEq)]
+pub struct QpSolution {
+    /// x, length n.
+    pub x: Vec<f64>,
+    /// λ, length m, with A x = b + Bᵀ λ and the signs of the module docs.
+    pub lambda: Vec<f64>,
+    /// The state of each constrained value, length m.
+    pub states: Vec<BoundState>,
+}
