@@ -61,9 +61,123 @@ pub fn reference_settings() -> DefaultSettings<f64> {
         .expect("the reference Clarabel settings are valid")
 }
 
-/// Solve `qp` with Clarabel and [`reference_settings`].
+/// Solve `qp` with Clarabel and [`reference_settings`], then [`polish`] the result: the exact
+/// solution on Clarabel's active set, kept when it passes the KKT certificate.
+///
+/// Why polish: an interior-point solution is accurate to its tolerances measured in the objective,
+/// which on the plate's stiff systems still leaves a few 1e-8 m (measured on the `forced` scene at
+/// 35 Hz, even on steps whose exact solution is the unconstrained one). Clarabel identifies the
+/// active set long before that; solving the equality-constrained problem on that set and checking
+/// feasibility and the multipliers' signs gives the QP's exact solution to round-off, with a
+/// certificate that does not depend on how the set was found.
 pub fn solve_box_qp(qp: &BoxQp<'_>) -> Result<QpSolution, Error> {
-    solve_box_qp_with(qp, reference_settings())
+    let raw = solve_box_qp_with(qp, reference_settings())?;
+    Ok(polish(qp, &raw.states).unwrap_or(raw))
+}
+
+/// The exact solution of `qp`, found from an approximate active set (Clarabel's), if one is found
+/// within 20 corrections.
+///
+/// Each round fixes x_{c_i} at its bound for every active i, solves A_FF x_F = b_F − A_FS x_S for
+/// the other unknowns (sparse Cholesky) and sets λ = (A x − b) on the constrained rows. A round
+/// whose inactive constrained values all lie within their bounds and whose λ_i all have the sign of
+/// their bound (both to 1e-12 relative) satisfies the KKT conditions: it is the unique minimiser and
+/// is returned. Otherwise violated bounds join the set and wrong-signed multipliers leave it
+/// (Clarabel misclassifies vertices that touch with a vanishing force), and the next round runs.
+pub fn polish(qp: &BoxQp<'_>, states: &[BoundState]) -> Option<QpSolution> {
+    let mut states = states.to_vec();
+    for _ in 0..20 {
+        match solve_on_active_set(qp, &states)? {
+            Ok(solution) => return Some(solution),
+            Err(corrected) => states = corrected,
+        }
+    }
+    None
+}
+
+/// One round of [`polish`]: the KKT-certified solution, or the corrected active set.
+fn solve_on_active_set(
+    qp: &BoxQp<'_>,
+    states: &[BoundState],
+) -> Option<Result<QpSolution, Vec<BoundState>>> {
+    use faer::linalg::solvers::Solve;
+    let n = qp.b.len();
+    let mut fixed = vec![None; n];
+    for (i, state) in states.iter().enumerate() {
+        match state {
+            BoundState::AtLower => fixed[qp.constrained[i]] = Some(qp.lower[i]),
+            BoundState::AtUpper => fixed[qp.constrained[i]] = Some(qp.upper[i]),
+            BoundState::Free => {}
+        }
+    }
+    let free: Vec<usize> = (0..n).filter(|&j| fixed[j].is_none()).collect();
+    let mut position = vec![usize::MAX; n];
+    for (k, &j) in free.iter().enumerate() {
+        position[j] = k;
+    }
+    let mut x: Vec<f64> = (0..n).map(|j| fixed[j].unwrap_or(0.0)).collect();
+    let mut rhs: Vec<f64> = free.iter().map(|&j| qp.b[j]).collect();
+    let mut triplets = Vec::new();
+    let a = qp.a;
+    for j in 0..n {
+        let range = a.col_range(j);
+        for (&i, &v) in a.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+            match (position[i], fixed[j]) {
+                (usize::MAX, _) => {}
+                (pi, Some(xj)) => rhs[pi] -= v * xj,
+                (pi, None) => triplets.push(faer::sparse::Triplet::new(pi, position[j], v)),
+            }
+        }
+    }
+    let reduced =
+        faer::sparse::SparseColMat::try_new_from_triplets(free.len(), free.len(), &triplets)
+            .ok()?;
+    let factor = reduced.sp_cholesky(faer::Side::Lower).ok()?;
+    factor.solve_in_place(faer::ColMut::from_slice_mut(&mut rhs).as_mat_mut());
+    for (k, &j) in free.iter().enumerate() {
+        x[j] = rhs[k];
+    }
+    // λ on the constrained rows: (A x − b)_c.
+    let mut residual: Vec<f64> = qp.b.iter().map(|b| -b).collect();
+    for (j, &xj) in x.iter().enumerate() {
+        let range = a.col_range(j);
+        for (&i, &v) in a.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+            residual[i] += v * xj;
+        }
+    }
+    let scale_x = qp
+        .lower
+        .iter()
+        .chain(qp.upper)
+        .filter(|v| v.is_finite())
+        .fold(1e-300, |s: f64, v| s.max(v.abs()));
+    let scale_lambda = residual.iter().fold(1e-300, |s: f64, v| s.max(v.abs()));
+    let mut lambda = vec![0.0; states.len()];
+    let mut corrected = states.to_vec();
+    for (i, state) in states.iter().enumerate() {
+        let (xi, li) = (x[qp.constrained[i]], residual[qp.constrained[i]]);
+        corrected[i] = match state {
+            BoundState::Free if xi < qp.lower[i] - 1e-12 * scale_x => BoundState::AtLower,
+            BoundState::Free if xi > qp.upper[i] + 1e-12 * scale_x => BoundState::AtUpper,
+            BoundState::AtLower | BoundState::AtUpper
+                if li * sign(*state) < -1e-12 * scale_lambda =>
+            {
+                BoundState::Free
+            }
+            _ => *state,
+        };
+        if state.is_active() {
+            lambda[i] = li;
+        }
+    }
+    if corrected != states {
+        return Some(Err(corrected));
+    }
+    Some(Ok(QpSolution {
+        x,
+        lambda,
+        states: corrected,
+    }))
 }
 
 /// Solve `qp` with Clarabel and the given settings (see [`reference_settings`]).
@@ -227,4 +341,13 @@ pub fn solve_box_qp_with(
         };
     }
     Ok(QpSolution { x, lambda, states })
+}
+
+/// +1 for the lower bound (λ ≥ 0), −1 for the upper (λ ≤ 0).
+fn sign(state: BoundState) -> f64 {
+    if state == BoundState::AtUpper {
+        -1.0
+    } else {
+        1.0
+    }
 }
