@@ -4,15 +4,24 @@
 //! Map of the crate, in the one direction its dependencies run:
 //! * [`mesh`], [`quadrature`]: structured meshes of the rectangle and exact triangle rules;
 //! * [`element`]: the C¹ elements (Argyris triangle, reduced FVS quadrilateral);
-//! * [`contact`]: the box-constrained QP of each time step (active-set fast path, Clarabel reference);
+//! * [`assembly`], [`system`]: dofs, sparse M, K and load, clamp, point evaluation;
+//! * [`modes`]: natural frequencies and M-orthonormal mode shapes;
+//! * [`contact`]: the box-constrained QP of a step (exact active set, clarabel reference);
+//! * [`scheme`]: the β = ½ Newmark–Dumont–Paoli stepper with modal and sparse backends;
+//! * [`simulation`]: the model the FMU drives;
 //! * [`scene`]: the parameter set shared by examples, the FMU and Python;
 //! * [`error`]: errors that name the parameter and the limit.
 
+pub mod assembly;
 pub mod contact;
 pub mod element;
 pub mod error;
 pub mod mesh;
+pub mod modes;
 pub mod quadrature;
 pub mod scene;
+pub mod scheme;
+pub mod simulation;
+pub mod system;
 
 pub use error::Error;

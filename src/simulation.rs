@@ -3,8 +3,8 @@
 
 use crate::error::Error;
 use crate::scene::Scene;
-pub use crate::scheme::{Outputs, State, StepPath, StepReport};
 use crate::scheme::Stepper;
+pub use crate::scheme::{Outputs, State, StepPath, StepReport};
 
 /// One simulation of a scene, driven step by step.
 pub struct Simulation {
@@ -16,7 +16,9 @@ impl Simulation {
     /// external base displacement at t = 0 (m).
     pub fn new(scene: &Scene, initial_external_base: f64) -> Result<Simulation, Error> {
         let z0 = scene.builtin_base(0.0) + initial_external_base;
-        Ok(Simulation { stepper: Stepper::new(scene, z0)? })
+        Ok(Simulation {
+            stepper: Stepper::new(scene, z0)?,
+        })
     }
 
     /// The scene, tunable parameters at their current values.

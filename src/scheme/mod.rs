@@ -18,7 +18,7 @@
 pub mod modal;
 pub mod sparse;
 
-use crate::contact;
+use crate::contact::{self, ActiveSetSolver, BoundState, BoxQp, Delassus, PdasSettings};
 use crate::error::Error;
 use crate::modes::dense_restriction;
 use crate::scene::{LinearChoice, QpChoice, Scene};
@@ -34,8 +34,8 @@ pub const MODAL_AUTO_LIMIT: usize = 3000;
 /// y ← y + alpha·A x for a sparse A.
 pub(crate) fn multiply(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, out: &mut [f64]) {
     let a = a.as_ref();
-    for j in 0..a.ncols() {
-        let xj = alpha * x[j];
+    for (j, &xj) in x.iter().enumerate().take(a.ncols()) {
+        let xj = alpha * xj;
         for (i, &v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
             out[i] += v * xj;
         }
@@ -120,7 +120,7 @@ pub trait Propagator: Send {
     /// Computes the unconstrained prediction w_{n+1} and writes its constrained values.
     fn predict(&mut self, forcing: &StepForcing, constrained_out: &mut [f64]);
     /// Column j of the Delassus operator W = B A⁻¹ Bᵀ.
-    fn delassus_column(&mut self, j: usize) -> Vec<f64>;
+    fn delassus_column(&mut self, j: usize) -> &[f64];
     /// Replaces the prediction by A⁻¹(b + Bᵀμ), μ nonzero only at `active`.
     fn correct(&mut self, active: &[usize], multipliers: &[f64]);
     /// Constrained values of the (corrected) prediction.
@@ -205,7 +205,7 @@ pub struct State {
     pub constrained_previous: Vec<f64>,
     /// See `constrained_previous`.
     pub constrained_current: Vec<f64>,
-    /// Warm-start active set.
+    /// Warm-start active set: −1 at the lower bound, 1 at the upper, 0 free.
     pub active_set: Vec<i8>,
     /// Outputs after step n.
     pub outputs: Outputs,
@@ -222,7 +222,9 @@ pub struct Stepper {
     pressure: [f64; 2],
     constrained_previous: Vec<f64>,
     constrained_current: Vec<f64>,
-    warm_start: contact::ActiveSet,
+    /// The contact state of each constrained vertex: the active-set warm start.
+    states: Vec<BoundState>,
+    active_set: ActiveSetSolver,
     outputs: Outputs,
     /// Contact force at each constrained vertex after the last step (N).
     forces: Vec<f64>,
@@ -242,7 +244,11 @@ impl Stepper {
     }
 
     /// As [`Stepper::new`], reusing an assembled plate of the same scene.
-    pub fn from_system(scene: &Scene, plate: &PlateSystem, initial_base: f64) -> Result<Stepper, Error> {
+    pub fn from_system(
+        scene: &Scene,
+        plate: &PlateSystem,
+        initial_base: f64,
+    ) -> Result<Stepper, Error> {
         scene.validate()?;
         check_base(scene, 0.0, initial_base)?;
         let dt = scene.solver.time_step;
@@ -268,7 +274,10 @@ impl Stepper {
                 );
                 Box::new(modal::ModalPropagator::new(Arc::new(data), &w0))
             }
-            _ => Box::new(sparse::SparsePropagator::new(Arc::new(sparse::SparseData::new(free.clone())?), &w0)),
+            _ => Box::new(sparse::SparsePropagator::new(
+                Arc::new(sparse::SparseData::new(free.clone())?),
+                &w0,
+            )),
         };
         let m = free.constrained.len();
         let constrained_w0: Vec<f64> = free.constrained.iter().map(|&i| w0[i]).collect();
@@ -281,7 +290,8 @@ impl Stepper {
             pressure: [scene.load.pressure; 2],
             constrained_previous: constrained_w0.clone(),
             constrained_current: constrained_w0,
-            warm_start: contact::ActiveSet::new(m),
+            states: vec![BoundState::Free; m],
+            active_set: ActiveSetSolver::new(),
             outputs: Outputs::default(),
             forces: vec![0.0; m],
             prediction: vec![0.0; m],
@@ -330,7 +340,10 @@ impl Stepper {
 
     /// Displacements u_n at the obstacle-constrained vertices (m).
     pub fn constrained_displacements(&self) -> Vec<f64> {
-        self.constrained_current.iter().map(|w| self.base[1] + w).collect()
+        self.constrained_current
+            .iter()
+            .map(|w| self.base[1] + w)
+            .collect()
     }
 
     /// Contact forces f_i = μ_i/Δt² at the constrained vertices after the last step (N): ≥ 0 on the
@@ -378,7 +391,11 @@ impl Stepper {
         let [z_prev, z_curr] = self.base;
         let p_next = self.scene.load.pressure;
         let forcing = if start {
-            StepForcing { load: 0.25 * dt * dt * (p_next + self.pressure[1]), base: -(base_next - z_curr), start }
+            StepForcing {
+                load: 0.25 * dt * dt * (p_next + self.pressure[1]),
+                base: -(base_next - z_curr),
+                start,
+            }
         } else {
             StepForcing {
                 load: 0.5 * dt * dt * (p_next + self.pressure[0]),
@@ -388,17 +405,25 @@ impl Stepper {
         };
         self.propagator.predict(&forcing, &mut self.prediction);
         self.fill_bounds(base_next, if start { z_curr } else { z_prev });
-        let feasible = (0..self.prediction.len()).all(|i| self.prediction[i] >= self.lower[i] && self.prediction[i] <= self.upper[i]);
+        let feasible = (0..self.prediction.len())
+            .all(|i| self.prediction[i] >= self.lower[i] && self.prediction[i] <= self.upper[i]);
         let m = self.prediction.len();
-        let (path, multipliers) = if m == 0 || (feasible && self.scene.solver.qp == QpChoice::Auto) {
-            self.warm_start.clear();
+        let (path, multipliers) = if m == 0 || (feasible && self.scene.solver.qp == QpChoice::Auto)
+        {
+            self.states.fill(BoundState::Free);
             (StepPath::Unconstrained, None)
         } else if self.scene.solver.qp == QpChoice::Clarabel {
-            (StepPath::Clarabel, Some(self.solve_with_clarabel(&forcing)?))
+            (
+                StepPath::Clarabel,
+                Some(self.solve_with_clarabel(&forcing)?),
+            )
         } else {
             match self.solve_with_active_set() {
                 Some(mu) => (StepPath::ActiveSet, Some(mu)),
-                None => (StepPath::ClarabelFallback, Some(self.solve_with_clarabel(&forcing)?)),
+                None => (
+                    StepPath::ClarabelFallback,
+                    Some(self.solve_with_clarabel(&forcing)?),
+                ),
             }
         };
         let mut next_constrained = vec![0.0; m];
@@ -417,7 +442,8 @@ impl Stepper {
         };
         let force = self.forces.iter().sum();
         self.propagator.accept();
-        self.constrained_previous = std::mem::replace(&mut self.constrained_current, next_constrained);
+        self.constrained_previous =
+            std::mem::replace(&mut self.constrained_current, next_constrained);
         self.base = [z_curr, base_next];
         self.pressure = [self.pressure[1], p_next];
         self.step_index += 1;
@@ -433,18 +459,41 @@ impl Stepper {
         let upper = self.scene.upper_obstacle();
         for i in 0..self.prediction.len() {
             let u_prev = base_previous + self.constrained_previous[i];
-            let shift = |g: f64| if e == 0.0 { g - base_next } else { (1.0 + e) * g - e * u_prev - base_next };
+            let shift = |g: f64| {
+                if e == 0.0 {
+                    g - base_next
+                } else {
+                    (1.0 + e) * g - e * u_prev - base_next
+                }
+            };
             self.lower[i] = lower.map_or(f64::NEG_INFINITY, shift);
             self.upper[i] = upper.map_or(f64::INFINITY, shift);
         }
     }
 
-    /// The exact active-set method on the Delassus operator; `None` when it does not converge.
+    /// The exact active-set method on the Delassus operator, warm-started from the last step's
+    /// contact states; `None` when it does not converge (the caller falls back to clarabel).
     fn solve_with_active_set(&mut self) -> Option<Vec<f64>> {
-        let propagator = &mut self.propagator;
-        let mut column = |j: usize| propagator.delassus_column(j);
-        let mu = contact::solve_delassus(&mut column, &self.prediction, &self.lower, &self.upper, &mut self.warm_start)?;
-        let active: Vec<usize> = (0..mu.len()).filter(|&i| mu[i] != 0.0).collect();
+        let mut delassus = PropagatorDelassus {
+            propagator: &mut *self.propagator,
+            dim: self.prediction.len(),
+        };
+        let report = self.active_set.solve(
+            &mut delassus,
+            &self.prediction,
+            &self.lower,
+            &self.upper,
+            &mut self.states,
+            &PdasSettings::default(),
+        );
+        if !report.status.is_solved() {
+            self.states.fill(BoundState::Free);
+            return None;
+        }
+        let mu = self.active_set.lambda().to_vec();
+        let active: Vec<usize> = (0..mu.len())
+            .filter(|&i| self.states[i].is_active())
+            .collect();
         self.propagator.correct(&active, &mu);
         Some(mu)
     }
@@ -452,18 +501,31 @@ impl Stepper {
     /// clarabel on the full primal QP min ½wᵀAw − bᵀw over the box; returns the multipliers.
     fn solve_with_clarabel(&mut self, forcing: &StepForcing) -> Result<Vec<f64>, Error> {
         let free = &*self.free;
-        let mut b: Vec<f64> = (0..free.load.len()).map(|i| forcing.load * free.load[i] + forcing.base * free.base[i]).collect();
+        let mut b: Vec<f64> = (0..free.load.len())
+            .map(|i| forcing.load * free.load[i] + forcing.base * free.base[i])
+            .collect();
         let current = self.propagator.free_field(Level::Current);
         if forcing.start {
             multiply(&free.mass, &current, 1.0, &mut b);
         } else {
             multiply(&free.mass, &current, 2.0, &mut b);
-            multiply(&free.system, &self.propagator.free_field(Level::Previous), -1.0, &mut b);
+            multiply(
+                &free.system,
+                &self.propagator.free_field(Level::Previous),
+                -1.0,
+                &mut b,
+            );
         }
-        let (w, mu) = contact::solve_clarabel(&free.system, &b, &free.constrained, &self.lower, &self.upper)?;
-        self.propagator.set_next(&w);
-        self.warm_start.set_from_multipliers(&mu);
-        Ok(mu)
+        let solution = contact::clarabel::solve_box_qp(&BoxQp {
+            a: free.system.as_ref(),
+            b: &b,
+            constrained: &free.constrained,
+            lower: &self.lower,
+            upper: &self.upper,
+        })?;
+        self.propagator.set_next(&solution.x);
+        self.states = solution.states;
+        Ok(solution.lambda)
     }
 
     fn compute_outputs(&self, active_nodes: usize, contact_force: f64) -> Outputs {
@@ -478,7 +540,11 @@ impl Stepper {
         } else {
             self.propagator.energy(dt)
         };
-        let base_velocity = if self.step_index == 0 { 0.0 } else { (z1 - z0) / dt };
+        let base_velocity = if self.step_index == 0 {
+            0.0
+        } else {
+            (z1 - z0) / dt
+        };
         let free = &*self.free;
         let kinetic = 0.5
             * (base_velocity * base_velocity * free.total_mass
@@ -512,7 +578,7 @@ impl Stepper {
             current,
             constrained_previous: self.constrained_previous.clone(),
             constrained_current: self.constrained_current.clone(),
-            active_set: self.warm_start.to_codes(),
+            active_set: self.states.iter().map(|s| state_code(*s)).collect(),
             outputs: self.outputs.clone(),
         }
     }
@@ -535,11 +601,20 @@ impl Stepper {
             || state.constrained_current.len() != m
             || state.active_set.len() != m
         {
-            return Err(Error::invalid("FMU state", "<state>", "was taken from a model with other fixed parameters"));
+            return Err(Error::invalid(
+                "FMU state",
+                "<state>",
+                "was taken from a model with other fixed parameters",
+            ));
         }
-        let warm = contact::ActiveSet::from_codes(&state.active_set)
+        let states = state
+            .active_set
+            .iter()
+            .map(|&c| state_from_code(c))
+            .collect::<Option<Vec<_>>>()
             .ok_or_else(|| Error::invalid("FMU state", "<state>", "holds an invalid active set"))?;
-        self.propagator.set_state(state.previous.clone(), state.current.clone());
+        self.propagator
+            .set_state(state.previous.clone(), state.current.clone());
         let qp = self.scene.solver.qp;
         self.scene = state.scene.clone();
         self.scene.solver.qp = qp;
@@ -548,20 +623,59 @@ impl Stepper {
         self.pressure = state.pressure;
         self.constrained_previous = state.constrained_previous.clone();
         self.constrained_current = state.constrained_current.clone();
-        self.warm_start = warm;
+        self.states = states;
         self.outputs = state.outputs.clone();
         Ok(())
+    }
+}
+
+/// The Delassus operator of a propagator, column by column.
+struct PropagatorDelassus<'a> {
+    propagator: &'a mut dyn Propagator,
+    dim: usize,
+}
+
+impl Delassus for PropagatorDelassus<'_> {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn column(&mut self, j: usize) -> &[f64] {
+        self.propagator.delassus_column(j)
+    }
+}
+
+fn state_code(state: BoundState) -> i8 {
+    match state {
+        BoundState::AtLower => -1,
+        BoundState::Free => 0,
+        BoundState::AtUpper => 1,
+    }
+}
+
+fn state_from_code(code: i8) -> Option<BoundState> {
+    match code {
+        -1 => Some(BoundState::AtLower),
+        0 => Some(BoundState::Free),
+        1 => Some(BoundState::AtUpper),
+        _ => None,
     }
 }
 
 /// SPEC §1: the base must stay strictly inside the gap.
 fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
     let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let inside = base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
+    let inside =
+        base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
     if inside {
         Ok(())
     } else {
-        Err(Error::BaseOutsideGap { time, base, lower, upper })
+        Err(Error::BaseOutsideGap {
+            time,
+            base,
+            lower,
+            upper,
+        })
     }
 }
 
@@ -581,7 +695,8 @@ fn free_system(scene: &Scene, plate: &PlateSystem) -> FreeSystem {
                 }
             }
         }
-        SparseColMat::try_new_from_triplets(keep.len(), keep.len(), &triplets).expect("indices in range")
+        SparseColMat::try_new_from_triplets(keep.len(), keep.len(), &triplets)
+            .expect("indices in range")
     };
     let mass = restrict(&plate.mass);
     let stiffness = restrict(&plate.stiffness);
@@ -596,7 +711,11 @@ fn free_system(scene: &Scene, plate: &PlateSystem) -> FreeSystem {
         system,
         load: keep.iter().map(|&d| plate.unit_load[d]).collect(),
         base: keep.iter().map(|&d| m_translation[d]).collect(),
-        constrained: if has_obstacle { plate.constrained.clone() } else { Vec::new() },
+        constrained: if has_obstacle {
+            plate.constrained.clone()
+        } else {
+            Vec::new()
+        },
         outputs: plate.outputs.each_ref().map(|f| {
             let mut row = vec![0.0; keep.len()];
             for (&d, &w) in f.dofs.iter().zip(&f.weights) {
@@ -621,20 +740,36 @@ fn static_preload(scene: &Scene, free: &FreeSystem, initial_base: f64) -> Result
     }
     let b: Vec<f64> = free.load.iter().map(|f| p * f).collect();
     let factor = free.stiffness.sp_cholesky(faer::Side::Lower).map_err(|e| {
-        Error::Numerical(format!("the clamped stiffness matrix is not numerically positive definite ({e:?})"))
+        Error::Numerical(format!(
+            "the clamped stiffness matrix is not numerically positive definite ({e:?})"
+        ))
     })?;
     let mut w = b.clone();
     {
         use faer::linalg::solvers::Solve;
         factor.solve_in_place(faer::ColMut::from_slice_mut(&mut w).as_mat_mut());
     }
-    let lower = scene.lower_obstacle().map_or(f64::NEG_INFINITY, |g| g - initial_base);
-    let upper = scene.upper_obstacle().map_or(f64::INFINITY, |g| g - initial_base);
-    let feasible = free.constrained.iter().all(|&i| w[i] >= lower && w[i] <= upper);
+    let lower = scene
+        .lower_obstacle()
+        .map_or(f64::NEG_INFINITY, |g| g - initial_base);
+    let upper = scene
+        .upper_obstacle()
+        .map_or(f64::INFINITY, |g| g - initial_base);
+    let feasible = free
+        .constrained
+        .iter()
+        .all(|&i| w[i] >= lower && w[i] <= upper);
     if feasible {
         return Ok(w);
     }
     let m = free.constrained.len();
-    let (w, _) = contact::solve_clarabel(&free.stiffness, &b, &free.constrained, &vec![lower; m], &vec![upper; m])?;
-    Ok(w)
+    let (lower, upper) = (vec![lower; m], vec![upper; m]);
+    let solution = contact::clarabel::solve_box_qp(&BoxQp {
+        a: free.stiffness.as_ref(),
+        b: &b,
+        constrained: &free.constrained,
+        lower: &lower,
+        upper: &upper,
+    })?;
+    Ok(solution.x)
 }

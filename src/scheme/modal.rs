@@ -50,19 +50,43 @@ impl ModalData {
     ) -> ModalData {
         let n = modes.omega_squared.len();
         let m = constrained.len();
-        let d: Vec<f64> = modes.omega_squared.iter().map(|&w2| 1.0 + 0.5 * time_step * time_step * w2).collect();
+        let d: Vec<f64> = modes
+            .omega_squared
+            .iter()
+            .map(|&w2| 1.0 + 0.5 * time_step * time_step * w2)
+            .collect();
         let shapes = modes.shapes;
         let c = Mat::from_fn(m, n, |i, k| shapes[(constrained[i], k)]);
         let c_t_scaled = Mat::from_fn(n, m, |k, i| c[(i, k)] / d[k]);
         let mut delassus = Mat::zeros(m, m);
-        matmul(delassus.as_mut(), Accum::Replace, c.as_ref(), c_t_scaled.as_ref(), 1.0, Par::Seq);
+        matmul(
+            delassus.as_mut(),
+            Accum::Replace,
+            c.as_ref(),
+            c_t_scaled.as_ref(),
+            1.0,
+            Par::Seq,
+        );
         let project = |v: &[f64]| -> Vec<f64> {
-            (0..n).map(|k| (0..v.len()).map(|i| shapes[(i, k)] * v[i]).sum()).collect()
+            (0..n)
+                .map(|k| (0..v.len()).map(|i| shapes[(i, k)] * v[i]).sum())
+                .collect()
         };
         let load = project(load_free);
         let base = project(base_free);
         let outputs = outputs_free.map(|row| project(&row));
-        ModalData { d, omega_squared: modes.omega_squared, shapes, c, c_t_scaled, delassus, load, base, outputs, mass_free }
+        ModalData {
+            d,
+            omega_squared: modes.omega_squared,
+            shapes,
+            c,
+            c_t_scaled,
+            delassus,
+            load,
+            base,
+            outputs,
+            mass_free,
+        }
     }
 }
 
@@ -79,7 +103,12 @@ impl ModalPropagator {
     /// A propagator at rest in the relative field `w0` (free dofs).
     pub fn new(data: Arc<ModalData>, w0: &[f64]) -> ModalPropagator {
         let q0 = to_modal(&data, w0);
-        ModalPropagator { previous: q0.clone(), current: q0.clone(), next: q0, data }
+        ModalPropagator {
+            previous: q0.clone(),
+            current: q0.clone(),
+            next: q0,
+            data,
+        }
     }
 }
 
@@ -110,8 +139,13 @@ impl Propagator for ModalPropagator {
         constrained_values(data, &self.next, constrained_out);
     }
 
-    fn delassus_column(&mut self, j: usize) -> Vec<f64> {
-        self.data.delassus.col(j).iter().copied().collect()
+    fn delassus_column(&mut self, j: usize) -> &[f64] {
+        self.data
+            .delassus
+            .col(j)
+            .try_as_col_major()
+            .expect("an owned matrix is column-major")
+            .as_slice()
     }
 
     fn correct(&mut self, active: &[usize], multipliers: &[f64]) {
@@ -165,7 +199,10 @@ impl Propagator for ModalPropagator {
     }
 
     fn output_values(&self) -> [f64; 3] {
-        self.data.outputs.each_ref().map(|row| row.iter().zip(&self.current).map(|(a, b)| a * b).sum())
+        self.data
+            .outputs
+            .each_ref()
+            .map(|row| row.iter().zip(&self.current).map(|(a, b)| a * b).sum())
     }
 
     fn state(&self) -> (Vec<f64>, Vec<f64>) {
@@ -189,5 +226,12 @@ fn constrained_values(data: &ModalData, q: &[f64], out: &mut [f64]) {
     let q = faer::ColRef::from_slice(q);
     let mut y = faer::ColMut::from_slice_mut(out);
     debug_assert_eq!(y.nrows(), m);
-    matmul(y.as_mut(), Accum::Replace, data.c.as_ref(), q, 1.0, Par::Seq);
+    matmul(
+        y.as_mut(),
+        Accum::Replace,
+        data.c.as_ref(),
+        q,
+        1.0,
+        Par::Seq,
+    );
 }

@@ -38,12 +38,21 @@ impl SparseData {
         Ok(SparseData { free, factor })
     }
 
+    /// x = A⁻¹ b in place, with one step of iterative refinement (r = b − A x, x += A⁻¹ r): the
+    /// scheme conserves energy only as well as each step's solve is accurate, and without it the
+    /// drift over 10⁴ steps reached 1e-10 relative on the FVS mesh.
     fn solve(&self, b: &mut [f64]) {
-        let n = b.len();
-        self.factor.solve_in_place(ColMut::from_slice_mut(b).as_mat_mut().subrows_mut(0, n));
+        let mut residual = b.to_vec();
+        self.factor
+            .solve_in_place(ColMut::from_slice_mut(b).as_mat_mut());
+        multiply(&self.free.system, b, -1.0, &mut residual);
+        self.factor
+            .solve_in_place(ColMut::from_slice_mut(&mut residual).as_mat_mut());
+        for (x, r) in b.iter_mut().zip(&residual) {
+            *x += r;
+        }
     }
 }
-
 
 /// Sparse state: w_{n−1}, w_n and the prediction w_{n+1} over the free dofs.
 #[derive(Clone, Debug)]
@@ -75,8 +84,8 @@ impl Propagator for SparsePropagator {
     fn predict(&mut self, forcing: &StepForcing, constrained_out: &mut [f64]) {
         let data = &*self.data;
         let b = &mut self.rhs;
-        for i in 0..b.len() {
-            b[i] = forcing.load * data.load[i] + forcing.base * data.base[i];
+        for ((b, &f), &m) in b.iter_mut().zip(&data.load).zip(&data.base) {
+            *b = forcing.load * f + forcing.base * m;
         }
         if forcing.start {
             multiply(&data.mass, &self.current, 1.0, b);
@@ -89,17 +98,14 @@ impl Propagator for SparsePropagator {
         self.next_constrained(constrained_out);
     }
 
-    fn delassus_column(&mut self, j: usize) -> Vec<f64> {
+    fn delassus_column(&mut self, j: usize) -> &[f64] {
         let data = &*self.data;
-        self.delassus_cache
-            .entry(j)
-            .or_insert_with(|| {
-                let mut e = vec![0.0; data.load.len()];
-                e[data.constrained[j]] = 1.0;
-                data.solve(&mut e);
-                data.constrained.iter().map(|&d| e[d]).collect()
-            })
-            .clone()
+        self.delassus_cache.entry(j).or_insert_with(|| {
+            let mut e = vec![0.0; data.load.len()];
+            e[data.constrained[j]] = 1.0;
+            data.solve(&mut e);
+            data.constrained.iter().map(|&d| e[d]).collect()
+        })
     }
 
     fn correct(&mut self, active: &[usize], multipliers: &[f64]) {
@@ -136,7 +142,12 @@ impl Propagator for SparsePropagator {
 
     fn energy(&self, time_step: f64) -> EnergyPieces {
         let data = &*self.data;
-        let v: Vec<f64> = self.current.iter().zip(&self.previous).map(|(a, b)| (a - b) / time_step).collect();
+        let v: Vec<f64> = self
+            .current
+            .iter()
+            .zip(&self.previous)
+            .map(|(a, b)| (a - b) / time_step)
+            .collect();
         EnergyPieces {
             velocity_mass_velocity: quadratic(&data.mass, &v),
             translation_mass_velocity: dot(&data.base, &v),
@@ -148,7 +159,10 @@ impl Propagator for SparsePropagator {
     }
 
     fn output_values(&self) -> [f64; 3] {
-        self.data.outputs.each_ref().map(|row| dot(row, &self.current))
+        self.data
+            .outputs
+            .each_ref()
+            .map(|row| dot(row, &self.current))
     }
 
     fn state(&self) -> (Vec<f64>, Vec<f64>) {
