@@ -69,7 +69,9 @@ fn main() {
             let mut qp_steps = 0;
             let t = Instant::now();
             for n in 1..=steps {
-                let report = stepper.step(s.builtin_base(n as f64 * s.solver.time_step)).unwrap();
+                let report = stepper
+                    .step(s.builtin_base(n as f64 * s.solver.time_step))
+                    .unwrap();
                 qp_steps += usize::from(report.path != StepPath::Unconstrained);
             }
             (t.elapsed().as_secs_f64() / steps as f64, qp_steps, stepper)
@@ -85,7 +87,14 @@ fn main() {
         let reps = 20_000;
         let t = Instant::now();
         for _ in 0..reps {
-            matmul(y.as_mut(), Accum::Replace, c.as_ref(), q.as_ref(), 1.0, Par::Seq);
+            matmul(
+                y.as_mut(),
+                Accum::Replace,
+                c.as_ref(),
+                q.as_ref(),
+                1.0,
+                Par::Seq,
+            );
             std::hint::black_box(&y);
         }
         let check = t.elapsed().as_secs_f64() / reps as f64;

@@ -27,19 +27,25 @@ fn main() -> ExitCode {
 
 fn run() -> Result<(), String> {
     let mut args = std::env::args().skip(1);
-    let name = args.next().ok_or("usage: scene <scene> [key=value ...] [--out FILE]")?;
+    let name = args
+        .next()
+        .ok_or("usage: scene <scene> [key=value ...] [--out FILE]")?;
     let mut scene = Scene::named(&name).map_err(|e| e.to_string())?;
     let mut out_path = None;
     while let Some(arg) = args.next() {
         if arg == "--out" {
             out_path = Some(args.next().ok_or("--out needs a file name")?);
         } else {
-            let (key, value) = arg.split_once('=').ok_or_else(|| format!("expected key=value, got {arg}"))?;
+            let (key, value) = arg
+                .split_once('=')
+                .ok_or_else(|| format!("expected key=value, got {arg}"))?;
             scene.set(key, value).map_err(|e| e.to_string())?;
         }
     }
     let mut out: Box<dyn Write> = match &out_path {
-        Some(path) => Box::new(std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| format!("{path}: {e}"))?)),
+        Some(path) => Box::new(std::io::BufWriter::new(
+            std::fs::File::create(path).map_err(|e| format!("{path}: {e}"))?,
+        )),
         None => Box::new(std::io::BufWriter::new(std::io::stdout().lock())),
     };
     let setup = Instant::now();
@@ -61,7 +67,11 @@ fn run() -> Result<(), String> {
         )
         .map_err(|e| e.to_string())
     };
-    writeln!(out, "t,corner1,corner2,edge_mid,energy_total,active,contact_force").map_err(|e| e.to_string())?;
+    writeln!(
+        out,
+        "t,corner1,corner2,edge_mid,energy_total,active,contact_force"
+    )
+    .map_err(|e| e.to_string())?;
     write_row(&mut out, &stepper)?;
     let mut paths = [0u64; 4];
     let mut stepping = 0.0;
