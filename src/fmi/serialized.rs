@@ -81,7 +81,9 @@ impl<'a> Reader<'a> {
 pub fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
     let mut r = Reader { bytes, at: 0 };
     if r.take(8, "the magic number")? != MAGIC {
-        return Err("not a PlateImpact FMU state (wrong magic number)".into());
+        return Err(
+            "serialized FMU state: not a PlateImpact FMU state (wrong magic number)".into(),
+        );
     }
     let version = u32::from_le_bytes(r.take(4, "the format version")?.try_into().unwrap());
     if version != FORMAT_VERSION {
