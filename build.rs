@@ -18,7 +18,7 @@ fn main() {
         Ok(m) => m,
         Err(e) => {
             eprintln!("error: {xml_path} is inconsistent: {e}");
-            panic!("{xml_path} is inconsistent: {e}");
+            std::process::exit(1);
         }
     };
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
