@@ -737,3 +737,106 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
         inst.status_not_available("fmi2GetStringStatus", what)
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi::variables::{vr, GUID};
+
+    fn instantiate() -> fmi2Component {
+        let callbacks = fmi2CallbackFunctions {
+            logger: None,
+            allocate_memory: None,
+            free_memory: None,
+            step_finished: None,
+            component_environment: std::ptr::null_mut(),
+        };
+        let name = CString::new("t").unwrap();
+        let guid = CString::new(GUID).unwrap();
+        // SAFETY: valid strings and callbacks for the call.
+        unsafe {
+            fmi2Instantiate(
+                name.as_ptr(),
+                FMI2_CO_SIMULATION,
+                guid.as_ptr(),
+                std::ptr::null(),
+                &callbacks,
+                FMI2_FALSE,
+                FMI2_FALSE,
+            )
+        }
+    }
+
+    #[test]
+    fn null_pointers_and_garbage_are_errors_not_crashes() {
+        // SAFETY: every pointer passed is null, dangling-free, or a valid local.
+        unsafe {
+            assert!(fmi2Instantiate(
+                std::ptr::null(),
+                1,
+                std::ptr::null(),
+                std::ptr::null(),
+                std::ptr::null(),
+                0,
+                0
+            )
+            .is_null());
+            assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 0), ERROR);
+            let c = instantiate();
+            assert!(!c.is_null());
+            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), 0);
+            assert_eq!(fmi2EnterInitializationMode(c), 0);
+            assert_eq!(fmi2ExitInitializationMode(c), 0);
+            assert_eq!(
+                fmi2GetReal(c, std::ptr::null(), 1, std::ptr::null_mut()),
+                ERROR
+            );
+            assert_eq!(fmi2GetReal(c, std::ptr::null(), 0, std::ptr::null_mut()), 0);
+            let refs = [vr::CORNER1_DISPLACEMENT];
+            let mut out = [f64::NAN];
+            assert_eq!(fmi2GetReal(c, refs.as_ptr(), 1, out.as_mut_ptr()), 0);
+            assert_eq!(out[0], 0.0);
+            assert_eq!(fmi2GetFMUstate(c, std::ptr::null_mut()), ERROR);
+            let garbage = [7u8; 64];
+            let mut state: fmi2FMUstate = std::ptr::null_mut();
+            assert_eq!(
+                fmi2DeSerializeFMUstate(c, garbage.as_ptr() as *const fmi2Byte, 64, &mut state),
+                ERROR
+            );
+            assert!(state.is_null());
+            assert_eq!(
+                fmi2DeSerializeFMUstate(c, std::ptr::null(), 10, &mut state),
+                ERROR
+            );
+            assert_eq!(fmi2GetFMUstate(c, &mut state), 0);
+            let mut size: size_t = 0;
+            assert_eq!(fmi2SerializedFMUstateSize(c, state, &mut size), 0);
+            let mut bytes = vec![0 as fmi2Byte; size];
+            assert_eq!(
+                fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size - 1),
+                ERROR
+            );
+            assert_eq!(fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size), 0);
+            let mut copy: fmi2FMUstate = std::ptr::null_mut();
+            assert_eq!(
+                fmi2DeSerializeFMUstate(c, bytes.as_ptr(), size, &mut copy),
+                0
+            );
+            assert_eq!(fmi2SetFMUstate(c, copy), 0);
+            assert_eq!(fmi2SetFMUstate(c, std::ptr::null_mut()), ERROR);
+            assert_eq!(fmi2FreeFMUstate(c, &mut state), 0);
+            assert_eq!(fmi2FreeFMUstate(c, &mut copy), 0);
+            assert!(state.is_null() && copy.is_null());
+            assert_eq!(fmi2CancelStep(c), ERROR);
+            let mut t = -1.0;
+            assert_eq!(
+                fmi2GetRealStatus(c, STATUS_KIND_LAST_SUCCESSFUL_TIME, &mut t),
+                0
+            );
+            assert_eq!(t, 0.0);
+            assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 0), 0);
+            fmi2FreeInstance(c);
+            fmi2FreeInstance(std::ptr::null_mut());
+        }
+    }
+}
