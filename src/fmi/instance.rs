@@ -218,7 +218,7 @@ fn isolation_scene(name: &str) -> Scene {
     s
 }
 
-/// One FMU instance.
+/// One FMU instance. It is `Send` (checked below): the importer may call it from any thread.
 pub struct Instance {
     name: String,
     log: Logger,
@@ -233,6 +233,11 @@ pub struct Instance {
     last_successful_time: f64,
     last_active: usize,
 }
+
+const _: () = {
+    const fn assert_send<T: Send>() {}
+    assert_send::<Instance>();
+};
 
 /// Start value of the input `base.displacement`.
 fn input_start() -> f64 {
@@ -407,7 +412,10 @@ impl Instance {
     pub fn exit_initialization_mode(&mut self) -> Result<(), Failure> {
         self.require("fmi2ExitInitializationMode", &[InitializationMode])?;
         self.ensure_sim()?;
+        // Derivatives sent during initialization are meant for the first doStep.
+        let derivatives = self.base.derivatives;
         self.base = BaseInput::new(self.input);
+        self.base.derivatives = derivatives;
         self.last_successful_time = self.start_time;
         self.mode = StepComplete;
         Ok(())
@@ -1106,6 +1114,23 @@ mod tests {
         inst.enter_initialization_mode().unwrap();
         inst.exit_initialization_mode().unwrap();
         inst.do_step(0.0, 1e-3).unwrap();
+    }
+
+    #[test]
+    fn derivatives_sent_during_initialization_reach_the_first_step() {
+        let (mut inst, _) = instance();
+        inst.enter_initialization_mode().unwrap();
+        inst.set_real_input_derivatives(&[vr::BASE_DISPLACEMENT], &[1], &[0.5])
+            .unwrap();
+        inst.exit_initialization_mode().unwrap();
+        let plan = inst.base.plan(0.0, 0.0, 1e-3);
+        assert_eq!(plan.slope, 0.5);
+        assert!(inst
+            .set_real_input_derivatives(&[vr::BASE_DISPLACEMENT], &[3], &[1.0])
+            .is_err());
+        assert!(inst
+            .set_real_input_derivatives(&[vr::PLATE_LENGTH], &[1], &[1.0])
+            .is_err());
     }
 
     #[test]
