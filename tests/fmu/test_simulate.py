@@ -63,3 +63,14 @@ def test_simulate_default_experiment(fmu_path):
     result = simulate_fmu(fmu_path, output=["corner1.displacement"])
     assert result["time"][-1] == pytest.approx(1.0)
     assert len(result) == 1001
+
+
+def test_nonzero_start_time_shifts_the_plate_clock(fmu_path):
+    # The plate's clock starts at the experiment's start time: the same run, shifted.
+    start = {"base.amplitude": 0.005}
+    a = simulate_fmu(fmu_path, start_time=0.0, stop_time=0.05, output_interval=STEP, start_values=start,
+                     output=["corner1.displacement"])
+    b = simulate_fmu(fmu_path, start_time=0.5, stop_time=0.55, output_interval=STEP, start_values=start,
+                     output=["corner1.displacement"])
+    np.testing.assert_allclose(b["time"] - 0.5, a["time"], atol=1e-12)
+    np.testing.assert_array_equal(a["corner1.displacement"], b["corner1.displacement"])
