@@ -10,12 +10,14 @@
 //! * [`scheme`]: the β = ½ Newmark–Dumont–Paoli stepper with modal and sparse backends;
 //! * [`simulation`]: the model the FMU drives;
 //! * [`scene`]: the parameter set shared by examples, the FMU and Python;
-//! * [`error`]: errors that name the parameter and the limit.
+//! * [`error`]: errors that name the parameter and the limit;
+//! * [`fmi`]: the FMI 2.0 Co-Simulation interface, the crate's only unsafe code.
 
 pub mod assembly;
 pub mod contact;
 pub mod element;
 pub mod error;
+pub mod fmi;
 pub mod mesh;
 pub mod modes;
 pub mod quadrature;

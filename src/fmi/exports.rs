@@ -1,0 +1,842 @@
+//! The exported FMI 2.0 Co-Simulation C functions: the only unsafe code of the crate.
+//!
+//! Each function checks its pointers (a null instance returns fmi2Error; a null array with a
+//! non-zero length is reported through the logger), runs the safe [`Instance`] method inside
+//! `catch_unwind` so that no panic crosses the C boundary, and returns its status. An
+//! `fmi2Component` is a `Box<Instance>` and an `fmi2FMUstate` a `Box<Snapshot>`, both turned into
+//! raw pointers that the importer hands back; FMI forbids using them after they are freed.
+
+#![allow(non_snake_case, non_camel_case_types)]
+
+use super::instance::{Failure, Instance, LogSink, Snapshot, Status};
+use libc::{c_char, c_int, c_uint, c_void, size_t};
+use std::ffi::{CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+type fmi2Component = *mut c_void;
+type fmi2ComponentEnvironment = *mut c_void;
+type fmi2FMUstate = *mut c_void;
+type fmi2ValueReference = c_uint;
+type fmi2Real = f64;
+type fmi2Integer = c_int;
+type fmi2Boolean = c_int;
+type fmi2String = *const c_char;
+type fmi2Byte = c_char;
+type fmi2Status = c_int;
+
+const FMI2_TRUE: fmi2Boolean = 1;
+const FMI2_FALSE: fmi2Boolean = 0;
+const FMI2_CO_SIMULATION: c_int = 1;
+const STATUS_KIND_DO_STEP: c_int = 0;
+const STATUS_KIND_PENDING: c_int = 1;
+const STATUS_KIND_LAST_SUCCESSFUL_TIME: c_int = 2;
+const STATUS_KIND_TERMINATED: c_int = 3;
+const ERROR: fmi2Status = Status::Error as fmi2Status;
+
+/// The host's variadic logger: (environment, instance name, status, category, format, ...).
+type fmi2CallbackLogger = unsafe extern "C" fn(
+    fmi2ComponentEnvironment,
+    fmi2String,
+    fmi2Status,
+    fmi2String,
+    fmi2String,
+    ...
+);
+
+/// `fmi2CallbackFunctions` of fmi2FunctionTypes.h.
+#[repr(C)]
+pub struct fmi2CallbackFunctions {
+    logger: Option<fmi2CallbackLogger>,
+    allocate_memory: Option<unsafe extern "C" fn(size_t, size_t) -> *mut c_void>,
+    free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
+    step_finished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
+    component_environment: fmi2ComponentEnvironment,
+}
+
+/// The host's logger callback, bound to one instance.
+struct HostLogger {
+    logger: fmi2CallbackLogger,
+    environment: fmi2ComponentEnvironment,
+    instance_name: CString,
+}
+
+// SAFETY: the environment pointer is opaque to us and only handed back to the host's logger;
+// FMI 2.0 lets the host call an instance from any thread (one at a time), and the logger must then
+// accept calls from that thread, so moving the pointer with the instance is what FMI requires.
+unsafe impl Send for HostLogger {}
+
+impl HostLogger {
+    fn send(&self, status: Status, category: &str, message: &str) {
+        let category = to_cstring(category);
+        let message = to_cstring(message);
+        // SAFETY: `logger` came from the host's fmi2CallbackFunctions and FMI requires it to stay
+        // callable for the life of the instance; every string is a valid NUL-terminated CString
+        // alive for the call, and the format "%s" consumes exactly the one string argument, so
+        // a '%' in the message is never interpreted.
+        unsafe {
+            (self.logger)(
+                self.environment,
+                self.instance_name.as_ptr(),
+                status as fmi2Status,
+                category.as_ptr(),
+                c"%s".as_ptr(),
+                message.as_ptr(),
+            );
+        }
+    }
+}
+
+fn to_cstring(s: &str) -> CString {
+    CString::new(s.replace('\0', "\\0")).expect("NULs were replaced")
+}
+
+/// Reads a C string argument; `None` if the pointer is null.
+///
+/// # Safety
+/// `p` must be null or point to a NUL-terminated string valid for the call (FMI requires this).
+unsafe fn c_str<'a>(p: fmi2String) -> Option<std::borrow::Cow<'a, str>> {
+    if p.is_null() {
+        None
+    } else {
+        // SAFETY: non-null, and NUL-terminated by the caller's contract.
+        Some(unsafe { CStr::from_ptr(p) }.to_string_lossy())
+    }
+}
+
+/// A slice from a C array of `n` elements; an empty slice for n = 0 whatever the pointer.
+///
+/// # Safety
+/// `p` must be null or point to `n` initialised elements valid for the call.
+unsafe fn slice<'a, T>(p: *const T, n: size_t, what: &str) -> Result<&'a [T], Failure> {
+    if n == 0 {
+        Ok(&[])
+    } else if p.is_null() {
+        Err(null_argument(what))
+    } else {
+        // SAFETY: non-null and, by the caller's contract, valid for `n` elements.
+        Ok(unsafe { std::slice::from_raw_parts(p, n) })
+    }
+}
+
+/// A mutable slice from a C array of `n` elements.
+///
+/// # Safety
+/// `p` must be null or point to `n` writable elements valid for the call, not aliased.
+unsafe fn slice_mut<'a, T>(p: *mut T, n: size_t, what: &str) -> Result<&'a mut [T], Failure> {
+    if n == 0 {
+        Ok(&mut [])
+    } else if p.is_null() {
+        Err(null_argument(what))
+    } else {
+        // SAFETY: non-null and, by the caller's contract, valid and unaliased for `n` elements.
+        Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+    }
+}
+
+fn null_argument(what: &str) -> Failure {
+    Failure {
+        status: Status::Error,
+        message: format!("the argument {what} is a null pointer"),
+    }
+}
+
+fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
+/// Runs `body` on the instance behind `c`: null check, panic barrier, logging of failures.
+fn call(
+    c: fmi2Component,
+    function: &str,
+    body: impl FnOnce(&mut Instance) -> Result<(), Failure>,
+) -> fmi2Status {
+    if c.is_null() {
+        return ERROR;
+    }
+    // SAFETY: a non-null fmi2Component is, by the FMI contract, a pointer this library returned
+    // from fmi2Instantiate (Box::into_raw) and not yet passed to fmi2FreeInstance; the importer
+    // does not call one instance from two threads at once, so this is the only reference.
+    let inst = unsafe { &mut *(c as *mut Instance) };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        let result = body(&mut *inst);
+        inst.finish(function, result)
+    }));
+    let status = match outcome {
+        Ok(status) => status,
+        Err(payload) => {
+            let text = panic_text(payload.as_ref());
+            catch_unwind(AssertUnwindSafe(|| {
+                inst.set_error_mode();
+                inst.finish(
+                    function,
+                    Err(Failure {
+                        status: Status::Error,
+                        message: format!(
+                            "internal error ({text}); the instance is now in the Error state: restore an FMU state, reset or free it"
+                        ),
+                    }),
+                )
+            }))
+            .unwrap_or(Status::Error)
+        }
+    };
+    status as fmi2Status
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
+    c"default".as_ptr()
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetVersion() -> *const c_char {
+    c"2.0".as_ptr()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: fmi2Component,
+    logging_on: fmi2Boolean,
+    n_categories: size_t,
+    categories: *const fmi2String,
+) -> fmi2Status {
+    call(c, "fmi2SetDebugLogging", |inst| {
+        // SAFETY: FMI passes `n_categories` string pointers (the array may be null when 0).
+        let pointers = unsafe { slice(categories, n_categories, "categories") }?;
+        let mut names = Vec::with_capacity(pointers.len());
+        for &p in pointers {
+            // SAFETY: each entry is a NUL-terminated category name by the FMI contract.
+            let name = unsafe { c_str(p) }.ok_or_else(|| null_argument("categories[i]"))?;
+            names.push(name.into_owned());
+        }
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        inst.set_debug_logging(logging_on != FMI2_FALSE, &refs)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instance_name: fmi2String,
+    fmu_type: c_int,
+    fmu_guid: fmi2String,
+    _fmu_resource_location: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    _visible: fmi2Boolean,
+    logging_on: fmi2Boolean,
+) -> fmi2Component {
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if functions.is_null() {
+            return std::ptr::null_mut();
+        }
+        // SAFETY: non-null and, by the FMI contract, a valid fmi2CallbackFunctions for this call;
+        // only the logger and the environment are copied out of it.
+        let callbacks = unsafe { &*functions };
+        // SAFETY: FMI passes NUL-terminated strings (or null, checked inside).
+        let name = unsafe { c_str(instance_name) }
+            .map(|s| s.into_owned())
+            .unwrap_or_default();
+        let host = callbacks.logger.map(|logger| HostLogger {
+            logger,
+            environment: callbacks.component_environment,
+            instance_name: to_cstring(&name),
+        });
+        let report = |host: &Option<HostLogger>, message: &str| {
+            if let Some(h) = host {
+                h.send(Status::Error, "logStatusError", message);
+            }
+        };
+        if name.is_empty() {
+            report(
+                &host,
+                "fmi2Instantiate: instanceName must be a non-empty string",
+            );
+            return std::ptr::null_mut();
+        }
+        if fmu_type != FMI2_CO_SIMULATION {
+            report(
+                &host,
+                "fmi2Instantiate: this FMU supports Co-Simulation only (fmuType = fmi2CoSimulation)",
+            );
+            return std::ptr::null_mut();
+        }
+        // SAFETY: as for the name.
+        let guid = unsafe { c_str(fmu_guid) }
+            .map(|s| s.into_owned())
+            .unwrap_or_default();
+        let sink: Option<LogSink> = host.map(|h| {
+            Box::new(move |status: Status, category: &str, message: &str| {
+                h.send(status, category, message)
+            }) as LogSink
+        });
+        match Instance::new(&name, &guid, logging_on != FMI2_FALSE, sink) {
+            Ok(inst) => Box::into_raw(Box::new(inst)) as fmi2Component,
+            Err((sink, message)) => {
+                if let Some(mut sink) = sink {
+                    sink(Status::Error, "logStatusError", &message);
+                }
+                std::ptr::null_mut()
+            }
+        }
+    }));
+    outcome.unwrap_or(std::ptr::null_mut())
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    if c.is_null() {
+        return;
+    }
+    // SAFETY: `c` came from Box::into_raw in fmi2Instantiate and FMI forbids using it after this
+    // call, so ownership returns to a Box exactly once.
+    let inst = unsafe { Box::from_raw(c as *mut Instance) };
+    let _ = catch_unwind(AssertUnwindSafe(move || drop(inst)));
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetupExperiment(
+    c: fmi2Component,
+    _tolerance_defined: fmi2Boolean,
+    _tolerance: fmi2Real,
+    start_time: fmi2Real,
+    stop_time_defined: fmi2Boolean,
+    stop_time: fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2SetupExperiment", |inst| {
+        let stop = (stop_time_defined != FMI2_FALSE).then_some(stop_time);
+        inst.setup_experiment(start_time, stop)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2EnterInitializationMode", |inst| {
+        inst.enter_initialization_mode()
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2ExitInitializationMode", |inst| {
+        inst.exit_initialization_mode()
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2Terminate", |inst| inst.terminate())
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2Reset", |inst| inst.reset())
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2GetReal", |inst| {
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice_mut(value, nvr, "value")?) };
+        inst.get_real(vr, value)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    call(c, "fmi2GetInteger", |inst| {
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice_mut(value, nvr, "value")?) };
+        inst.get_integer(vr, value)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    call(c, "fmi2GetBoolean", |inst| {
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice_mut(value, nvr, "value")?) };
+        let mut flags = vec![false; vr.len()];
+        inst.get_boolean(vr, &mut flags)?;
+        for (out, f) in value.iter_mut().zip(flags) {
+            *out = if f { FMI2_TRUE } else { FMI2_FALSE };
+        }
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    call(c, "fmi2GetString", |inst| {
+        // SAFETY: FMI passes an array of `nvr` value references.
+        let vr = unsafe { slice(vr, nvr, "vr")? };
+        inst.check_string("fmi2GetString", vr)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2SetReal", |inst| {
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice(value, nvr, "value")?) };
+        inst.set_real(vr, value)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    value: *const fmi2Integer,
+) -> fmi2Status {
+    call(c, "fmi2SetInteger", |inst| {
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice(value, nvr, "value")?) };
+        inst.set_integer(vr, value)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
+    call(c, "fmi2SetBoolean", |inst| {
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice(value, nvr, "value")?) };
+        let flags: Vec<bool> = value.iter().map(|&b| b != FMI2_FALSE).collect();
+        inst.set_boolean(vr, &flags)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    _value: *const fmi2String,
+) -> fmi2Status {
+    call(c, "fmi2SetString", |inst| {
+        // SAFETY: FMI passes an array of `nvr` value references.
+        let vr = unsafe { slice(vr, nvr, "vr")? };
+        inst.check_string("fmi2SetString", vr)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
+    call(c, "fmi2GetFMUstate", |inst| {
+        if state.is_null() {
+            return Err(null_argument("FMUstate"));
+        }
+        let snap = inst.get_state()?;
+        // SAFETY: `state` is non-null and points to the importer's fmi2FMUstate variable; a
+        // non-null value there is a state this library allocated (FMI: it is then updated).
+        unsafe {
+            let slot = &mut *state;
+            if slot.is_null() {
+                *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
+            } else {
+                *(*slot as *mut Snapshot) = snap;
+            }
+        }
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
+    call(c, "fmi2SetFMUstate", |inst| {
+        if state.is_null() {
+            return Err(null_argument("FMUstate"));
+        }
+        // SAFETY: a non-null fmi2FMUstate is one this library allocated in fmi2GetFMUstate or
+        // fmi2DeSerializeFMUstate and that has not been freed (FMI contract); it is only read.
+        let snap = unsafe { &*(state as *const Snapshot) };
+        inst.set_state(snap)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: fmi2Component,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    call(c, "fmi2FreeFMUstate", |_inst| {
+        if state.is_null() {
+            return Ok(());
+        }
+        // SAFETY: `state` points to the importer's fmi2FMUstate variable; a non-null value is a
+        // Box this library leaked and FMI forbids using it after this call, so it is freed once
+        // and the variable set to null.
+        unsafe {
+            let slot = &mut *state;
+            if !slot.is_null() {
+                drop(Box::from_raw(*slot as *mut Snapshot));
+                *slot = std::ptr::null_mut();
+            }
+        }
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    size: *mut size_t,
+) -> fmi2Status {
+    call(c, "fmi2SerializedFMUstateSize", |inst| {
+        if state.is_null() || size.is_null() {
+            return Err(null_argument("FMUstate or size"));
+        }
+        // SAFETY: as in fmi2SetFMUstate: a live state allocated by this library, only read.
+        let snap = unsafe { &*(state as *const Snapshot) };
+        let bytes = inst.serialize_state(snap)?;
+        // SAFETY: `size` is non-null and points to the importer's size_t.
+        unsafe { *size = bytes.len() };
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    serialized_state: *mut fmi2Byte,
+    size: size_t,
+) -> fmi2Status {
+    call(c, "fmi2SerializeFMUstate", |inst| {
+        if state.is_null() {
+            return Err(null_argument("FMUstate"));
+        }
+        // SAFETY: as in fmi2SetFMUstate: a live state allocated by this library, only read.
+        let snap = unsafe { &*(state as *const Snapshot) };
+        let bytes = inst.serialize_state(snap)?;
+        if size < bytes.len() {
+            return Err(Failure {
+                status: Status::Error,
+                message: format!(
+                    "the buffer holds {size} bytes, the serialized state needs {} (ask fmi2SerializedFMUstateSize)",
+                    bytes.len()
+                ),
+            });
+        }
+        // SAFETY: FMI passes a writable buffer of `size` >= bytes.len() bytes.
+        let out =
+            unsafe { slice_mut(serialized_state as *mut u8, bytes.len(), "serializedState")? };
+        out.copy_from_slice(&bytes);
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    serialized_state: *const fmi2Byte,
+    size: size_t,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    call(c, "fmi2DeSerializeFMUstate", |inst| {
+        if state.is_null() {
+            return Err(null_argument("FMUstate"));
+        }
+        // SAFETY: FMI passes `size` readable bytes (any content: it is checked by decode).
+        let bytes = unsafe { slice(serialized_state as *const u8, size, "serializedState")? };
+        let snap = inst.deserialize_state(bytes)?;
+        // SAFETY: `state` is non-null and points to the importer's fmi2FMUstate variable; a
+        // non-null value there is a live state of this library, which is then updated.
+        unsafe {
+            let slot = &mut *state;
+            if slot.is_null() {
+                *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
+            } else {
+                *(*slot as *mut Snapshot) = snap;
+            }
+        }
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    _v_unknown_ref: *const fmi2ValueReference,
+    _n_unknown: size_t,
+    _v_known_ref: *const fmi2ValueReference,
+    _n_known: size_t,
+    _dv_known: *const fmi2Real,
+    _dv_unknown: *mut fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2GetDirectionalDerivative", |inst| {
+        inst.get_directional_derivative()
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2SetRealInputDerivatives", |inst| {
+        // SAFETY: FMI passes three arrays of `nvr` elements.
+        let (vr, order, value) = unsafe {
+            (
+                slice(vr, nvr, "vr")?,
+                slice(order, nvr, "order")?,
+                slice(value, nvr, "value")?,
+            )
+        };
+        inst.set_real_input_derivatives(vr, order, value)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: size_t,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2GetRealOutputDerivatives", |inst| {
+        inst.get_real_output_derivatives()
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DoStep(
+    c: fmi2Component,
+    current_communication_point: fmi2Real,
+    communication_step_size: fmi2Real,
+    _no_set_fmu_state_prior_to_current_point: fmi2Boolean,
+) -> fmi2Status {
+    call(c, "fmi2DoStep", |inst| {
+        inst.do_step(current_communication_point, communication_step_size)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2CancelStep", |inst| inst.cancel_step())
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStatus(
+    c: fmi2Component,
+    kind: c_int,
+    _value: *mut fmi2Status,
+) -> fmi2Status {
+    call(c, "fmi2GetStatus", |inst| {
+        let what = if kind == STATUS_KIND_DO_STEP {
+            "fmi2DoStepStatus"
+        } else {
+            "this status kind"
+        };
+        inst.status_not_available("fmi2GetStatus", what)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: fmi2Component,
+    kind: c_int,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2GetRealStatus", |inst| {
+        if kind != STATUS_KIND_LAST_SUCCESSFUL_TIME {
+            return inst.status_not_available("fmi2GetRealStatus", "this status kind");
+        }
+        if value.is_null() {
+            return Err(null_argument("value"));
+        }
+        let t = inst.last_successful_time()?;
+        // SAFETY: `value` is non-null and points to the importer's fmi2Real.
+        unsafe { *value = t };
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetIntegerStatus(
+    c: fmi2Component,
+    _kind: c_int,
+    _value: *mut fmi2Integer,
+) -> fmi2Status {
+    call(c, "fmi2GetIntegerStatus", |inst| {
+        inst.status_not_available("fmi2GetIntegerStatus", "an integer status")
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: fmi2Component,
+    kind: c_int,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    call(c, "fmi2GetBooleanStatus", |inst| {
+        if kind != STATUS_KIND_TERMINATED {
+            return inst.status_not_available("fmi2GetBooleanStatus", "this status kind");
+        }
+        if value.is_null() {
+            return Err(null_argument("value"));
+        }
+        inst.last_successful_time()?;
+        // SAFETY: `value` is non-null and points to the importer's fmi2Boolean. The FMU never
+        // asks to end the simulation early.
+        unsafe { *value = FMI2_FALSE };
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStringStatus(
+    c: fmi2Component,
+    kind: c_int,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    call(c, "fmi2GetStringStatus", |inst| {
+        let what = if kind == STATUS_KIND_PENDING {
+            "fmi2PendingStatus"
+        } else {
+            "this status kind"
+        };
+        inst.status_not_available("fmi2GetStringStatus", what)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi::variables::{vr, GUID};
+
+    fn instantiate() -> fmi2Component {
+        let callbacks = fmi2CallbackFunctions {
+            logger: None,
+            allocate_memory: None,
+            free_memory: None,
+            step_finished: None,
+            component_environment: std::ptr::null_mut(),
+        };
+        let name = CString::new("t").unwrap();
+        let guid = CString::new(GUID).unwrap();
+        // SAFETY: valid strings and callbacks for the call.
+        unsafe {
+            fmi2Instantiate(
+                name.as_ptr(),
+                FMI2_CO_SIMULATION,
+                guid.as_ptr(),
+                std::ptr::null(),
+                &callbacks,
+                FMI2_FALSE,
+                FMI2_FALSE,
+            )
+        }
+    }
+
+    #[test]
+    fn null_pointers_and_garbage_are_errors_not_crashes() {
+        // SAFETY: every pointer passed is null, dangling-free, or a valid local.
+        unsafe {
+            assert!(fmi2Instantiate(
+                std::ptr::null(),
+                1,
+                std::ptr::null(),
+                std::ptr::null(),
+                std::ptr::null(),
+                0,
+                0
+            )
+            .is_null());
+            assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 0), ERROR);
+            let c = instantiate();
+            assert!(!c.is_null());
+            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), 0);
+            assert_eq!(fmi2EnterInitializationMode(c), 0);
+            assert_eq!(fmi2ExitInitializationMode(c), 0);
+            assert_eq!(
+                fmi2GetReal(c, std::ptr::null(), 1, std::ptr::null_mut()),
+                ERROR
+            );
+            assert_eq!(fmi2GetReal(c, std::ptr::null(), 0, std::ptr::null_mut()), 0);
+            let refs = [vr::CORNER1_DISPLACEMENT];
+            let mut out = [f64::NAN];
+            assert_eq!(fmi2GetReal(c, refs.as_ptr(), 1, out.as_mut_ptr()), 0);
+            assert_eq!(out[0], 0.0);
+            assert_eq!(fmi2GetFMUstate(c, std::ptr::null_mut()), ERROR);
+            let garbage = [7u8; 64];
+            let mut state: fmi2FMUstate = std::ptr::null_mut();
+            assert_eq!(
+                fmi2DeSerializeFMUstate(c, garbage.as_ptr() as *const fmi2Byte, 64, &mut state),
+                ERROR
+            );
+            assert!(state.is_null());
+            assert_eq!(
+                fmi2DeSerializeFMUstate(c, std::ptr::null(), 10, &mut state),
+                ERROR
+            );
+            assert_eq!(fmi2GetFMUstate(c, &mut state), 0);
+            let mut size: size_t = 0;
+            assert_eq!(fmi2SerializedFMUstateSize(c, state, &mut size), 0);
+            let mut bytes = vec![0 as fmi2Byte; size];
+            assert_eq!(
+                fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size - 1),
+                ERROR
+            );
+            assert_eq!(fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size), 0);
+            let mut copy: fmi2FMUstate = std::ptr::null_mut();
+            assert_eq!(
+                fmi2DeSerializeFMUstate(c, bytes.as_ptr(), size, &mut copy),
+                0
+            );
+            assert_eq!(fmi2SetFMUstate(c, copy), 0);
+            assert_eq!(fmi2SetFMUstate(c, std::ptr::null_mut()), ERROR);
+            assert_eq!(fmi2FreeFMUstate(c, &mut state), 0);
+            assert_eq!(fmi2FreeFMUstate(c, &mut copy), 0);
+            assert!(state.is_null() && copy.is_null());
+            assert_eq!(fmi2CancelStep(c), ERROR);
+            let mut t = -1.0;
+            assert_eq!(
+                fmi2GetRealStatus(c, STATUS_KIND_LAST_SUCCESSFUL_TIME, &mut t),
+                0
+            );
+            assert_eq!(t, 0.0);
+            assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 0), 0);
+            fmi2FreeInstance(c);
+            fmi2FreeInstance(std::ptr::null_mut());
+        }
+    }
+}

@@ -1,0 +1,153 @@
+"""Shared fixtures for the FMU tests: the packaged FMU and a thin driver around fmpy's FMU2Slave."""
+
+import json
+import os
+import pathlib
+import subprocess
+
+import pytest
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import calloc, free
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
+from fmpy.logging import addLoggerProxy
+from ctypes import byref
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SCENES = ROOT / "scenes"
+
+
+@pytest.fixture(scope="session")
+def fmu_path():
+    """The FMU built by `cargo run --release --bin package-fmu` (or $PLATE_IMPACT_FMU)."""
+    given = os.environ.get("PLATE_IMPACT_FMU")
+    if given:
+        return given
+    subprocess.run(
+        ["cargo", "run", "--release", "--quiet", "--bin", "package-fmu"],
+        cwd=ROOT,
+        check=True,
+    )
+    return str(ROOT / "target" / "fmu" / "PlateImpact.fmu")
+
+
+@pytest.fixture(scope="session")
+def model_description(fmu_path):
+    return read_model_description(fmu_path)
+
+
+@pytest.fixture(scope="session")
+def unzipdir(fmu_path, tmp_path_factory):
+    return extract(fmu_path, unzipdir=str(tmp_path_factory.mktemp("fmu")))
+
+
+def scene_start_values(name):
+    """Start values for fmpy from a scene file of scenes/: the dotted paths are the variable names."""
+    scene = json.loads((SCENES / f"{name}.json").read_text())
+    values = {}
+    for group, fields in scene.items():
+        if not isinstance(fields, dict):
+            continue  # stop_time: the experiment's stop time, not a variable
+        for key, value in fields.items():
+            path = f"{group}.{key}"
+            if path in ("solver.qp", "solver.linear"):
+                continue  # library settings, not FMU variables
+            if path == "mesh.element":
+                value = {"argyris": 1, "fvs": 2}[value]
+            values[path] = value
+    return values, scene["stop_time"]
+
+
+class Plate:
+    """One FMU instance driven through fmpy's low-level FMU2Slave, collecting logged messages."""
+
+    def __init__(self, unzipdir, model_description, name="plate", logging_on=False):
+        md = model_description
+        self.variables = {v.name: v for v in md.modelVariables}
+        self.messages = []
+
+        def log(_env, _instance, status, category, message):
+            self.messages.append((status, category.decode(), message.decode()))
+
+        # Keep the ctypes callbacks alive as long as the instance.
+        self._logger = fmi2CallbackLoggerTYPE(log)
+        self.callbacks = fmi2CallbackFunctions()
+        self.callbacks.logger = self._logger
+        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(self.callbacks))
+        self.fmu = FMU2Slave(
+            guid=md.guid,
+            unzipDirectory=unzipdir,
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName=name,
+        )
+        self.fmu.instantiate(callbacks=self.callbacks, loggingOn=logging_on)
+        self.time = 0.0
+
+    def vr(self, name):
+        return self.variables[name].valueReference
+
+    def set(self, name, value):
+        kind = self.variables[name].type
+        if kind == "Real":
+            self.fmu.setReal([self.vr(name)], [float(value)])
+        elif kind in ("Integer", "Enumeration"):
+            self.fmu.setInteger([self.vr(name)], [int(value)])
+        elif kind == "Boolean":
+            self.fmu.setBoolean([self.vr(name)], [bool(value)])
+        else:
+            raise TypeError(kind)
+
+    def get(self, name):
+        kind = self.variables[name].type
+        if kind == "Real":
+            return self.fmu.getReal([self.vr(name)])[0]
+        if kind in ("Integer", "Enumeration"):
+            return self.fmu.getInteger([self.vr(name)])[0]
+        return self.fmu.getBoolean([self.vr(name)])[0]
+
+    def initialize(self, start_values=None, start=0.0, stop=None):
+        self.fmu.setupExperiment(startTime=start, stopTime=stop)
+        for name, value in (start_values or {}).items():
+            self.set(name, value)
+        self.fmu.enterInitializationMode()
+        self.fmu.exitInitializationMode()
+        self.time = start
+        return self
+
+    def step(self, h):
+        self.fmu.doStep(self.time, h)
+        self.time += h
+
+    def outputs(self):
+        names = [n for n, v in self.variables.items() if v.causality == "output" and v.type == "Real"]
+        return self.fmu.getReal([self.vr(n) for n in names])
+
+    def errors(self):
+        return [m for s, c, m in self.messages if s >= 3]
+
+    def free(self):
+        self.fmu.freeInstance()
+
+
+@pytest.fixture
+def new_plate(unzipdir, model_description):
+    made = []
+
+    def make(name="plate", logging_on=False):
+        p = Plate(unzipdir, model_description, name, logging_on)
+        made.append(p)
+        return p
+
+    yield make
+    for p in made:
+        try:
+            p.free()
+        except Exception:
+            pass
