@@ -66,19 +66,28 @@ fn main() {
             let mut s = s.clone();
             s.solver.qp = qp;
             let mut stepper = Stepper::new(&s, 0.0).unwrap();
-            let mut qp_steps = 0;
+            // Steps proven free by the screening, free after the full check, needing a QP:
+            // count and time of each.
+            let mut kinds = [(0usize, 0.0f64); 3];
             let t = Instant::now();
             for n in 1..=steps {
-                let report = stepper
-                    .step(s.builtin_base(n as f64 * s.solver.time_step))
-                    .unwrap();
-                qp_steps += usize::from(report.path != StepPath::Unconstrained);
+                let z = s.builtin_base(n as f64 * s.solver.time_step);
+                let t_step = Instant::now();
+                let report = stepper.step(z).unwrap();
+                let kind = match (report.path, report.bounds_evaluated) {
+                    (StepPath::Unconstrained, false) => 0,
+                    (StepPath::Unconstrained, true) => 1,
+                    _ => 2,
+                };
+                kinds[kind].0 += 1;
+                kinds[kind].1 += t_step.elapsed().as_secs_f64();
             }
-            (t.elapsed().as_secs_f64() / steps as f64, qp_steps, stepper)
+            (t.elapsed().as_secs_f64() / steps as f64, kinds, stepper)
         };
         let fast: Vec<_> = (0..3).map(|_| run(QpChoice::Auto, steps)).collect();
         let per_step = median(fast.iter().map(|r| r.0).collect());
-        let (qp_steps, stepper) = (fast[0].1, &fast[0].2);
+        let (kinds, stepper) = (fast[0].1, &fast[0].2);
+        let mean_us = |(count, time): (usize, f64)| 1e6 * time / count.max(1) as f64;
         let (m, n) = (stepper.constrained_count(), stepper.free_dof_count());
         // The bare bound check: y = C q with C of shape m × n.
         let c = Mat::from_fn(m, n, |i, k| ((i * 7 + k * 13) % 17) as f64 - 8.0);
@@ -102,10 +111,17 @@ fn main() {
         let (reference, _, _) = run(QpChoice::Clarabel, clarabel_steps);
         println!(
             "{element:?} {nx}×{ny} ({:?} backend, {n} free dofs, {m} constrained): {:.2} µs/step over {steps} steps \
-             ({qp_steps} QP steps); bare bound check {:.2} µs = {:.0} % of a step; clarabel every step {:.1} µs/step \
+             (screened free {} at {:.2} µs, checked free {} at {:.2} µs, QP {} at {:.2} µs); \
+             bare bound check {:.2} µs = {:.0} % of a step; clarabel every step {:.1} µs/step \
              (first {clarabel_steps} steps) = {:.0}× the fast path",
             stepper.linear_backend(),
             1e6 * per_step,
+            kinds[0].0,
+            mean_us(kinds[0]),
+            kinds[1].0,
+            mean_us(kinds[1]),
+            kinds[2].0,
+            mean_us(kinds[2]),
             1e6 * check,
             100.0 * check / per_step,
             1e6 * reference,

@@ -43,8 +43,8 @@ impl Simulation {
         self.stepper.step(z)
     }
 
-    /// Outputs after the last step.
-    pub fn outputs(&self) -> &Outputs {
+    /// Outputs after the last step (evaluated on demand).
+    pub fn outputs(&self) -> Outputs {
         self.stepper.outputs()
     }
 

@@ -117,14 +117,18 @@ pub struct EnergyPieces {
 
 /// The linear part of a step: a backend that owns w_{n−1}, w_n and the prediction w_{n+1}.
 pub trait Propagator: Send {
-    /// Computes the unconstrained prediction w_{n+1} and writes its constrained values.
-    fn predict(&mut self, forcing: &StepForcing, constrained_out: &mut [f64]);
+    /// Computes the unconstrained prediction w_{n+1}.
+    fn predict(&mut self, forcing: &StepForcing);
+    /// Whether the prediction provably satisfies lower ≤ w_{n+1} ≤ upper at every constrained
+    /// vertex, without computing those values exactly (a cheap screening test). `false` means
+    /// "not proven", not "violated": the caller then evaluates the values.
+    fn prediction_proven_within(&mut self, lower: f64, upper: f64) -> bool;
     /// Column j of the Delassus operator W = B A⁻¹ Bᵀ.
     fn delassus_column(&mut self, j: usize) -> &[f64];
     /// Replaces the prediction by A⁻¹(b + Bᵀμ), μ nonzero only at `active`.
     fn correct(&mut self, active: &[usize], multipliers: &[f64]);
-    /// Constrained values of the (corrected) prediction.
-    fn next_constrained(&self, out: &mut [f64]);
+    /// Constrained values of a stored field.
+    fn constrained_values(&self, which: Level, out: &mut [f64]);
     /// A stored field over the free dofs.
     fn free_field(&self, which: Level) -> Vec<f64>;
     /// Replaces the prediction by a free-dof field (from the clarabel path).
@@ -184,6 +188,9 @@ pub struct StepReport {
     pub active: usize,
     /// The solver path.
     pub path: StepPath,
+    /// Whether the constrained values had to be evaluated in full (false when the modal
+    /// screening proved the step contact-free, or when there is no constraint).
+    pub bounds_evaluated: bool,
 }
 
 /// The serializable dynamic state of a [`Stepper`] (with the scene, its fixed parameters).
@@ -201,14 +208,10 @@ pub struct State {
     pub previous: Vec<f64>,
     /// See `previous`.
     pub current: Vec<f64>,
-    /// Constrained values of w_{n−1} and w_n.
-    pub constrained_previous: Vec<f64>,
-    /// See `constrained_previous`.
-    pub constrained_current: Vec<f64>,
     /// Warm-start active set: −1 at the lower bound, 1 at the upper, 0 free.
     pub active_set: Vec<i8>,
-    /// Outputs after step n.
-    pub outputs: Outputs,
+    /// Contact forces of the last step (N).
+    pub forces: Vec<f64>,
 }
 
 /// The time stepper of one scene.
@@ -220,12 +223,13 @@ pub struct Stepper {
     step_index: u64,
     base: [f64; 2],
     pressure: [f64; 2],
-    constrained_previous: Vec<f64>,
-    constrained_current: Vec<f64>,
+    /// Constrained values of w_{n−1}, kept only when restitution e > 0 needs them for the bounds.
+    restitution_previous: Vec<f64>,
+    /// Constrained values of w_n, likewise.
+    restitution_current: Vec<f64>,
     /// The contact state of each constrained vertex: the active-set warm start.
     states: Vec<BoundState>,
     active_set: ActiveSetSolver,
-    outputs: Outputs,
     /// Contact force at each constrained vertex after the last step (N).
     forces: Vec<f64>,
     // Workspaces for the hot path.
@@ -281,26 +285,23 @@ impl Stepper {
         };
         let m = free.constrained.len();
         let constrained_w0: Vec<f64> = free.constrained.iter().map(|&i| w0[i]).collect();
-        let mut stepper = Stepper {
+        Ok(Stepper {
             scene: scene.clone(),
             propagator,
             linear,
             step_index: 0,
             base: [initial_base; 2],
             pressure: [scene.load.pressure; 2],
-            constrained_previous: constrained_w0.clone(),
-            constrained_current: constrained_w0,
+            restitution_previous: constrained_w0.clone(),
+            restitution_current: constrained_w0,
             states: vec![BoundState::Free; m],
             active_set: ActiveSetSolver::new(),
-            outputs: Outputs::default(),
             forces: vec![0.0; m],
             prediction: vec![0.0; m],
             lower: vec![0.0; m],
             upper: vec![0.0; m],
             free,
-        };
-        stepper.outputs = stepper.compute_outputs(0, 0.0);
-        Ok(stepper)
+        })
     }
 
     /// The scene, with tunable parameters at their current values.
@@ -323,9 +324,10 @@ impl Stepper {
         self.step_index as f64 * self.scene.solver.time_step
     }
 
-    /// Outputs after the last step.
-    pub fn outputs(&self) -> &Outputs {
-        &self.outputs
+    /// Outputs after the last step, evaluated on demand (O(n): a host that reads them at its
+    /// communication points only does not pay for them at every internal step).
+    pub fn outputs(&self) -> Outputs {
+        self.compute_outputs()
     }
 
     /// Number of free dofs.
@@ -340,10 +342,9 @@ impl Stepper {
 
     /// Displacements u_n at the obstacle-constrained vertices (m).
     pub fn constrained_displacements(&self) -> Vec<f64> {
-        self.constrained_current
-            .iter()
-            .map(|w| self.base[1] + w)
-            .collect()
+        let mut w = vec![0.0; self.free.constrained.len()];
+        self.propagator.constrained_values(Level::Current, &mut w);
+        w.iter().map(|w| self.base[1] + w).collect()
     }
 
     /// Contact forces f_i = μ_i/Δt² at the constrained vertices after the last step (N): ≥ 0 on the
@@ -403,52 +404,76 @@ impl Stepper {
                 start,
             }
         };
-        self.propagator.predict(&forcing, &mut self.prediction);
-        self.fill_bounds(base_next, if start { z_curr } else { z_prev });
-        let feasible = (0..self.prediction.len())
-            .all(|i| self.prediction[i] >= self.lower[i] && self.prediction[i] <= self.upper[i]);
+        self.propagator.predict(&forcing);
         let m = self.prediction.len();
-        let (path, multipliers) = if m == 0 || (feasible && self.scene.solver.qp == QpChoice::Auto)
-        {
-            self.states.fill(BoundState::Free);
+        let e = self.scene.solver.restitution;
+        let auto = self.scene.solver.qp == QpChoice::Auto;
+        let lower = self
+            .scene
+            .lower_obstacle()
+            .map_or(f64::NEG_INFINITY, |g| g - base_next);
+        let upper = self
+            .scene
+            .upper_obstacle()
+            .map_or(f64::INFINITY, |g| g - base_next);
+        let proven =
+            m == 0 || (auto && e == 0.0 && self.propagator.prediction_proven_within(lower, upper));
+        let (path, multipliers) = if proven {
             (StepPath::Unconstrained, None)
-        } else if self.scene.solver.qp == QpChoice::Clarabel {
-            (
-                StepPath::Clarabel,
-                Some(self.solve_with_clarabel(&forcing)?),
-            )
         } else {
-            match self.solve_with_active_set() {
-                Some(mu) => (StepPath::ActiveSet, Some(mu)),
-                None => (
-                    StepPath::ClarabelFallback,
+            self.propagator
+                .constrained_values(Level::Next, &mut self.prediction);
+            self.fill_bounds(base_next, if start { z_curr } else { z_prev });
+            let feasible = (0..m).all(|i| {
+                self.prediction[i] >= self.lower[i] && self.prediction[i] <= self.upper[i]
+            });
+            if feasible && auto {
+                (StepPath::Unconstrained, None)
+            } else if !auto {
+                (
+                    StepPath::Clarabel,
                     Some(self.solve_with_clarabel(&forcing)?),
-                ),
+                )
+            } else {
+                match self.solve_with_active_set() {
+                    Some(mu) => (StepPath::ActiveSet, Some(mu)),
+                    None => (
+                        StepPath::ClarabelFallback,
+                        Some(self.solve_with_clarabel(&forcing)?),
+                    ),
+                }
             }
         };
-        let mut next_constrained = vec![0.0; m];
-        self.propagator.next_constrained(&mut next_constrained);
         let active = match &multipliers {
             Some(mu) => {
                 for (f, &x) in self.forces.iter_mut().zip(mu) {
                     *f = x / (dt * dt);
                 }
-                mu.iter().filter(|&&x| x != 0.0).count()
+                self.states.iter().filter(|s| s.is_active()).count()
             }
             None => {
+                self.states.fill(BoundState::Free);
                 self.forces.fill(0.0);
                 0
             }
         };
-        let force = self.forces.iter().sum();
+        if e != 0.0 {
+            std::mem::swap(
+                &mut self.restitution_previous,
+                &mut self.restitution_current,
+            );
+            self.propagator
+                .constrained_values(Level::Next, &mut self.restitution_current);
+        }
         self.propagator.accept();
-        self.constrained_previous =
-            std::mem::replace(&mut self.constrained_current, next_constrained);
         self.base = [z_curr, base_next];
         self.pressure = [self.pressure[1], p_next];
         self.step_index += 1;
-        self.outputs = self.compute_outputs(active, force);
-        Ok(StepReport { active, path })
+        Ok(StepReport {
+            active,
+            path,
+            bounds_evaluated: !proven,
+        })
     }
 
     /// Bounds on w_{n+1} at the constrained vertices: [(1+e)g1 − e u_{n−1} − z_{n+1}, …] with
@@ -458,7 +483,7 @@ impl Stepper {
         let lower = self.scene.lower_obstacle();
         let upper = self.scene.upper_obstacle();
         for i in 0..self.prediction.len() {
-            let u_prev = base_previous + self.constrained_previous[i];
+            let u_prev = base_previous + self.restitution_previous[i];
             let shift = |g: f64| {
                 if e == 0.0 {
                     g - base_next
@@ -528,7 +553,9 @@ impl Stepper {
         Ok(solution.lambda)
     }
 
-    fn compute_outputs(&self, active_nodes: usize, contact_force: f64) -> Outputs {
+    fn compute_outputs(&self) -> Outputs {
+        let active_nodes = self.states.iter().filter(|s| s.is_active()).count();
+        let contact_force = self.forces.iter().sum();
         let dt = self.scene.solver.time_step;
         let [z0, z1] = self.base;
         let pieces = if self.step_index == 0 {
@@ -576,10 +603,8 @@ impl Stepper {
             pressure: self.pressure,
             previous,
             current,
-            constrained_previous: self.constrained_previous.clone(),
-            constrained_current: self.constrained_current.clone(),
             active_set: self.states.iter().map(|s| state_code(*s)).collect(),
-            outputs: self.outputs.clone(),
+            forces: self.forces.clone(),
         }
     }
 
@@ -597,8 +622,7 @@ impl Stepper {
         if fixed != self.scene
             || state.previous.len() != self.propagator.dimension()
             || state.current.len() != self.propagator.dimension()
-            || state.constrained_previous.len() != m
-            || state.constrained_current.len() != m
+            || state.forces.len() != m
             || state.active_set.len() != m
         {
             return Err(Error::invalid(
@@ -621,10 +645,12 @@ impl Stepper {
         self.step_index = state.step_index;
         self.base = state.base;
         self.pressure = state.pressure;
-        self.constrained_previous = state.constrained_previous.clone();
-        self.constrained_current = state.constrained_current.clone();
+        self.propagator
+            .constrained_values(Level::Previous, &mut self.restitution_previous);
+        self.propagator
+            .constrained_values(Level::Current, &mut self.restitution_current);
         self.states = states;
-        self.outputs = state.outputs.clone();
+        self.forces = state.forces.clone();
         Ok(())
     }
 }

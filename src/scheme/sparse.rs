@@ -81,7 +81,7 @@ impl SparsePropagator {
 }
 
 impl Propagator for SparsePropagator {
-    fn predict(&mut self, forcing: &StepForcing, constrained_out: &mut [f64]) {
+    fn predict(&mut self, forcing: &StepForcing) {
         let data = &*self.data;
         let b = &mut self.rhs;
         for ((b, &f), &m) in b.iter_mut().zip(&data.load).zip(&data.base) {
@@ -95,7 +95,15 @@ impl Propagator for SparsePropagator {
         }
         self.next.copy_from_slice(b);
         data.solve(&mut self.next);
-        self.next_constrained(constrained_out);
+    }
+
+    /// Exact: the constrained values are entries of w_{n+1}.
+    fn prediction_proven_within(&mut self, lower: f64, upper: f64) -> bool {
+        let next = &self.next;
+        self.data
+            .constrained
+            .iter()
+            .all(|&d| next[d] >= lower && next[d] <= upper)
     }
 
     fn delassus_column(&mut self, j: usize) -> &[f64] {
@@ -117,9 +125,14 @@ impl Propagator for SparsePropagator {
         data.solve(&mut self.next);
     }
 
-    fn next_constrained(&self, out: &mut [f64]) {
+    fn constrained_values(&self, which: Level, out: &mut [f64]) {
+        let w = match which {
+            Level::Previous => &self.previous,
+            Level::Current => &self.current,
+            Level::Next => &self.next,
+        };
         for (o, &d) in out.iter_mut().zip(&self.data.constrained) {
-            *o = self.next[d];
+            *o = w[d];
         }
     }
 
