@@ -477,9 +477,14 @@ impl Stepper {
     }
 
     /// Bounds on w_{n+1} at the constrained vertices: [(1+e)g1 − e u_{n−1} − z_{n+1}, …] with
-    /// u_{n−1} = z_{n−1} + w_{n−1} (e = 0: exactly g − z_{n+1}).
+    /// u_{n−1} = z_{n−1} + w_{n−1} (e = 0: exactly g − z_{n+1}). At the start step
+    /// u_{−1} := u_1 − 2Δt v_0 = u_1 (SPEC §3, v_0 = 0), so the constraint is on u_1 itself: e = 0.
     fn fill_bounds(&mut self, base_next: f64, base_previous: f64) {
-        let e = self.scene.solver.restitution;
+        let e = if self.step_index == 0 {
+            0.0
+        } else {
+            self.scene.solver.restitution
+        };
         let lower = self.scene.lower_obstacle();
         let upper = self.scene.upper_obstacle();
         for i in 0..self.prediction.len() {

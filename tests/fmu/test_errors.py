@@ -34,6 +34,7 @@ def test_non_finite_parameters(new_plate, name, value):
         ("material.density", -1.0),
         ("solver.time_step", 0.0),
         ("solver.restitution", 1.5),
+        ("solver.restitution", -0.25),
         ("mesh.nx", 0),
         ("mesh.ny", 100000),
         ("mesh.element", 3),
