@@ -1,7 +1,9 @@
 //! Natural frequencies of the clamped steel plate of SPEC §4.
 //!
-//! `cargo run --release --example modes -- <argyris|fvs> <nx> <ny> [Lx Ly]`
+//! `cargo run --release --example modes -- <argyris|fvs> <nx> <ny> [Lx Ly] [name=value ...]`
 //! prints the dof count and the six lowest natural frequencies, one per line as `mode <k>: <f> Hz`.
+//! `name=value` sets any other scene parameter by its FMU name (e.g. `plate.thickness=0.008`), so
+//! a caller such as `examples/frequency_sweep.py` gets the frequencies of exactly the plate it runs.
 
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
@@ -9,8 +11,9 @@ use plate_impact::system::PlateSystem;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: modes <argyris|fvs> <nx> <ny> [Lx Ly]";
+    let (overrides, args): (Vec<String>, Vec<String>) =
+        std::env::args().skip(1).partition(|a| a.contains('='));
+    let usage = "usage: modes <argyris|fvs> <nx> <ny> [Lx Ly] [name=value ...]";
     let (Some(element), Some(nx), Some(ny)) = (
         args.first().and_then(|s| ElementKind::parse(s)),
         args.get(1).and_then(|s| s.parse().ok()),
@@ -29,6 +32,13 @@ fn main() -> ExitCode {
     ) {
         scene.plate.length = lx;
         scene.plate.width = ly;
+    }
+    for arg in &overrides {
+        let (key, value) = arg.split_once('=').expect("partitioned on '='");
+        if let Err(e) = scene.set(key, value) {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
     }
     let run = || -> Result<(), plate_impact::Error> {
         let start = std::time::Instant::now();
