@@ -156,17 +156,21 @@ impl Propagator for ModalPropagator {
         } else {
             (2.0, 1.0)
         };
-        // The squared norms of q_{n+1} over the low and the high modes, for the screening, are
-        // accumulated in the same pass.
-        let mut norms = [0.0; 2];
-        for k in 0..self.next.len() {
-            let r = load * data.load[k] + base * data.base[k];
-            let q = (current_weight * self.current[k] + r) * data.inverse_d[k]
-                - previous_weight * self.previous[k];
-            self.next[k] = q;
-            norms[usize::from(k >= SCREENING_MODES)] += q * q;
+        let next = self.next.iter_mut();
+        for ((((q, &c), &p), &inverse_d), (&f, &m)) in next
+            .zip(&self.current)
+            .zip(&self.previous)
+            .zip(&data.inverse_d)
+            .zip(data.load.iter().zip(&data.base))
+        {
+            *q = (current_weight * c + load * f + base * m) * inverse_d - previous_weight * p;
         }
-        self.next_norms_squared = norms;
+        // The squared norms of q_{n+1} over the low and the high modes, for the screening.
+        let low = SCREENING_MODES.min(self.next.len());
+        self.next_norms_squared = [
+            sum_of_squares(&self.next[..low]),
+            sum_of_squares(&self.next[low..]),
+        ];
     }
 
     fn prediction_proven_within(&mut self, lower: f64, upper: f64) -> bool {
@@ -298,4 +302,17 @@ fn constrained_values(data: &ModalData, q: &[f64], out: &mut [f64]) {
         1.0,
         Par::Seq,
     );
+}
+
+/// Σ x_k², with four partial sums so that the additions do not wait on each other.
+fn sum_of_squares(x: &[f64]) -> f64 {
+    let mut partial = [0.0; 4];
+    let chunks = x.chunks_exact(4);
+    let rest: f64 = chunks.remainder().iter().map(|v| v * v).sum();
+    for chunk in chunks {
+        for (p, v) in partial.iter_mut().zip(chunk) {
+            *p += v * v;
+        }
+    }
+    partial.iter().sum::<f64>() + rest
 }
