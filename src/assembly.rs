@@ -224,25 +224,6 @@ impl Discretization {
         })
     }
 
-    /// Value, gradient and Hessian of the finite element function with dofs `u` at `p`.
-    pub fn evaluate(&self, u: &[f64], p: [f64; 2]) -> Option<Jet> {
-        let c = self.mesh.locate(p)?;
-        let basis = self.cell_basis(c);
-        let mut jets = vec![Jet::default(); basis.dof_count()];
-        basis.eval(p, &mut jets);
-        let mut out = Jet::default();
-        for (&d, j) in self.cell_dofs[c].iter().zip(&jets) {
-            out.value += u[d] * j.value;
-            for k in 0..2 {
-                out.grad[k] += u[d] * j.grad[k];
-            }
-            for k in 0..3 {
-                out.hess[k] += u[d] * j.hess[k];
-            }
-        }
-        Some(out)
-    }
-
     /// Consistent mass M_ij = ∫ ρe φ_i φ_j and stiffness
     /// K_ij = D ∫ [(1 − ν)(φ_i,xx φ_j,xx + 2 φ_i,xy φ_j,xy + φ_i,yy φ_j,yy) + ν Δφ_i Δφ_j]
     /// (SPEC §1–2), each with a quadrature exact for its integrand, as sparse symmetric matrices.

@@ -67,9 +67,4 @@ impl Simulation {
     pub fn restore(&mut self, state: &State) -> Result<(), Error> {
         self.stepper.restore(state)
     }
-
-    /// The underlying stepper.
-    pub fn stepper(&self) -> &Stepper {
-        &self.stepper
-    }
 }

@@ -3,8 +3,10 @@
 //! the energy lost in the `energy` scene falls as e grows, e = 1 keeps the energy within a bound
 //! that shrinks with Δt, and the fast path agrees with clarabel for e > 0 as it does for e = 0.
 
+mod common;
+
 use plate_impact::element::ElementKind;
-use plate_impact::scene::{QpChoice, Scene};
+use plate_impact::scene::Scene;
 use plate_impact::scheme::{StepPath, Stepper};
 use plate_impact::system::PlateSystem;
 
@@ -324,46 +326,18 @@ fn fast_path_matches_clarabel_for_restitution() {
             ("energy", ElementKind::Fvs),
             ("forced-35hz", ElementKind::Argyris),
         ] {
-            let mut s = Scene::named(name).unwrap();
+            let mut s = common::paper_scene(name, element);
             s.solver.restitution = e;
-            s.mesh.element = element;
-            if element == ElementKind::Fvs {
-                s.mesh.nx = 14;
-                s.mesh.ny = 10;
-            }
-            let mut fast = Stepper::new(&s, 0.0).unwrap();
-            let mut reference_scene = s.clone();
-            reference_scene.solver.qp = QpChoice::Clarabel;
-            let mut reference = Stepper::new(&reference_scene, 0.0).unwrap();
-            let (mut compared, mut most_active, mut worst) = (0, 0, 0.0f64);
-            for n in 1..=6000 {
-                let z = s.builtin_base(n as f64 * s.solver.time_step);
-                let state = fast.state();
-                let report = fast.step(z).unwrap();
-                if report.path == StepPath::Unconstrained || compared >= 40 {
-                    continue;
-                }
-                reference.restore(&state).unwrap();
-                reference.step(z).unwrap();
-                let diff = fast
-                    .constrained_displacements()
-                    .iter()
-                    .zip(reference.constrained_displacements())
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
-                let o = (fast.outputs(), reference.outputs());
-                let corner = (o.0.corner1 - o.1.corner1)
-                    .abs()
-                    .max((o.0.corner2 - o.1.corner2).abs());
-                worst = worst.max(diff).max(corner);
-                most_active = most_active.max(report.active);
-                compared += 1;
-            }
-            println!("e = {e}, {name} {element:?}: {compared} contact steps compared, up to {most_active} contacts, worst difference {worst:.2e} m");
-            assert!(compared >= 10, "{name}: too few contact steps");
+            let a = common::fast_path_against_clarabel(&s, 6000, 40);
+            println!(
+                "e = {e}, {name} {element:?}: {} contact steps compared, up to {} contacts, worst difference {:.2e} m",
+                a.compared, a.most_active, a.worst
+            );
+            assert!(a.compared >= 10, "{name}: too few contact steps");
             assert!(
-                worst <= 1e-9,
-                "e = {e}, {name} {element:?}: fast path and clarabel differ by {worst:e} m"
+                a.worst <= 1e-9,
+                "e = {e}, {name} {element:?}: fast path and clarabel differ by {:e} m",
+                a.worst
             );
         }
     }

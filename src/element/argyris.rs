@@ -203,17 +203,6 @@ impl ArgyrisCell {
             };
         }
     }
-
-    /// The global dof length scale `h` given to [`ArgyrisCell::new`].
-    pub fn dof_scale(&self) -> f64 {
-        self.h
-    }
-
-    /// The unit normal of the edge from local vertex k to k + 1 used by dof 18 + k (oriented by the
-    /// global vertex ids, so it may point into the cell).
-    pub fn edge_normal(&self, k: usize) -> [f64; 2] {
-        self.normals[k]
-    }
 }
 
 impl CellBasis for ArgyrisCell {

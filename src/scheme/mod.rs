@@ -373,16 +373,6 @@ impl Stepper {
         Ok(())
     }
 
-    /// The relative field w_n over all dofs (clamp dofs zero) plus z_n 𝟙: the displacement u_n.
-    pub fn displacement(&self, plate: &PlateSystem) -> Vec<f64> {
-        let w = self.propagator.free_field(Level::Current);
-        let mut u: Vec<f64> = plate.translation.iter().map(|t| t * self.base[1]).collect();
-        for (k, &d) in plate.free.iter().enumerate() {
-            u[d] += w[k];
-        }
-        u
-    }
-
     /// Advances one step to t_{n+1}; the base displacement there is `base_next` (m), absolute.
     pub fn step(&mut self, base_next: f64) -> Result<StepReport, Error> {
         let dt = self.scene.solver.time_step;

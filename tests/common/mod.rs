@@ -1,0 +1,68 @@
+//! Helpers shared by the integration tests.
+
+use plate_impact::element::ElementKind;
+use plate_impact::scene::{QpChoice, Scene};
+use plate_impact::scheme::{StepPath, Stepper};
+
+/// A named scene on the paper's 140-element mesh of `element` (Argyris 10 × 7, FVS 14 × 10).
+pub fn paper_scene(name: &str, element: ElementKind) -> Scene {
+    let mut s = Scene::named(name).unwrap();
+    s.mesh.element = element;
+    if element == ElementKind::Fvs {
+        s.mesh.nx = 14;
+        s.mesh.ny = 10;
+    }
+    s
+}
+
+/// How closely the fast path and the clarabel reference agree.
+pub struct Agreement {
+    /// Contact steps compared.
+    pub compared: usize,
+    /// Most vertices in contact on one of them.
+    pub most_active: usize,
+    /// Largest difference of u_{n+1} at the constrained vertices and the free corners (m).
+    pub worst: f64,
+}
+
+/// Runs `scene` with the fast path for up to `steps` steps; on each of its first `max_compared`
+/// contact steps, restores the state before that step into a clarabel stepper, takes the same
+/// step there and compares the results.
+pub fn fast_path_against_clarabel(scene: &Scene, steps: usize, max_compared: usize) -> Agreement {
+    let mut fast = Stepper::new(scene, 0.0).unwrap();
+    let mut reference_scene = scene.clone();
+    reference_scene.solver.qp = QpChoice::Clarabel;
+    let mut reference = Stepper::new(&reference_scene, 0.0).unwrap();
+    let mut agreement = Agreement {
+        compared: 0,
+        most_active: 0,
+        worst: 0.0,
+    };
+    for n in 1..=steps {
+        if agreement.compared >= max_compared {
+            break;
+        }
+        let z = scene.builtin_base(n as f64 * scene.solver.time_step);
+        let state = fast.state();
+        let report = fast.step(z).unwrap();
+        if report.path == StepPath::Unconstrained {
+            continue;
+        }
+        reference.restore(&state).unwrap();
+        reference.step(z).unwrap();
+        let vertices = fast
+            .constrained_displacements()
+            .iter()
+            .zip(reference.constrained_displacements())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let (a, b) = (fast.outputs(), reference.outputs());
+        let corners = (a.corner1 - b.corner1)
+            .abs()
+            .max((a.corner2 - b.corner2).abs());
+        agreement.worst = agreement.worst.max(vertices).max(corners);
+        agreement.most_active = agreement.most_active.max(report.active);
+        agreement.compared += 1;
+    }
+    agreement
+}
