@@ -450,7 +450,7 @@ fn one_cell_meshes() {
     }
 }
 
-/// 60 × 30: `auto` picks the sparse backend (more than 3000 free dofs).
+/// 60 × 30: `auto` picks the sparse backend (more than `MODAL_AUTO_LIMIT` free dofs).
 #[test]
 fn sixty_by_thirty_meshes() {
     for element in [ElementKind::Fvs, ElementKind::Argyris] {
