@@ -235,3 +235,32 @@ fn modal_and_sparse_backends_agree_on_a_contact_scene() {
         assert!(worst <= 1e-9, "{element:?}: backends differ by {worst:e} m");
     }
 }
+
+/// Tunable parameters between steps: a new pressure acts from the next step on, so reading the
+/// outputs right after setting it must give the same numbers (they describe the last step); an
+/// obstacle moved into the plate is refused with the parameter's name, and a valid move is taken.
+#[test]
+fn tunable_parameters_take_effect_cleanly() {
+    let mut s = scene("energy", ElementKind::Argyris);
+    s.obstacle.upper_enabled = true;
+    s.obstacle.upper = 0.03;
+    let mut stepper = Stepper::new(&s, 0.0).unwrap();
+    for _ in 0..10 {
+        stepper.step(0.0).unwrap();
+    }
+    let before = stepper.outputs();
+    stepper.set_pressure(5e4).unwrap();
+    assert_eq!(stepper.outputs(), before, "outputs changed without a step");
+    // The plate is lifted by the preload: its corners are far above 5 mm.
+    assert!(before.corner1 > 0.005);
+    let err = stepper.set_obstacles(-0.01, 0.005).unwrap_err();
+    assert!(err.to_string().contains("obstacle.upper"), "{err}");
+    assert_eq!(
+        stepper.scene().obstacle.upper,
+        s.obstacle.upper,
+        "a refused move changes nothing"
+    );
+    stepper.set_obstacles(-0.02, 0.04).unwrap();
+    assert_eq!(stepper.scene().obstacle.lower, -0.02);
+    stepper.step(0.0).unwrap();
+}

@@ -17,7 +17,8 @@
 //!   method warm-started from the previous step, with a primal active-set safeguard; the caller then
 //!   sets x = x* + A⁻¹ Bᵀ λ.
 //! * [`clarabel`]: the reference, the full primal QP handed to the Clarabel interior-point solver with
-//!   tightened tolerances ([`clarabel::reference_settings`]).
+//!   tightened tolerances ([`clarabel::reference_settings`]), then polished on its active set with a
+//!   KKT certificate ([`clarabel::polish`]).
 
 pub mod active_set;
 pub mod clarabel;

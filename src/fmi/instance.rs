@@ -901,6 +901,15 @@ impl Instance {
     /// simulation is rebuilt only if the snapshot's fixed parameters differ from the running ones.
     pub fn set_state(&mut self, snap: &Snapshot) -> Result<(), Failure> {
         self.require("fmi2SetFMUstate", &Self::STATE_MODES)?;
+        let needs_simulation = matches!(snap.mode, Mode::StepComplete | Mode::Terminated);
+        if needs_simulation && snap.sim.is_none() {
+            return Err(Failure {
+                status: Status::Error,
+                message: "fmi2SetFMUstate: the state claims a running simulation but holds none"
+                    .into(),
+            });
+        }
+        // Nothing of this instance changes until the snapshot has been restored completely.
         match &snap.sim {
             None => self.sim = None,
             Some(state) => {
@@ -908,12 +917,15 @@ impl Instance {
                     .sim
                     .as_ref()
                     .is_some_and(|s| fixed_part(s.scene()) == fixed_part(&snap.scene));
-                if !reusable {
+                if reusable {
+                    // Stepper::restore checks everything before it changes anything.
+                    self.sim.as_mut().expect("reusable").restore(state)?;
+                } else {
                     snap.scene.validate()?;
-                    self.sim = None;
-                    self.sim = Some(Simulation::new(&snap.scene, snap.z0)?);
+                    let mut sim = Simulation::new(&snap.scene, snap.z0)?;
+                    sim.restore(state)?;
+                    self.sim = Some(sim);
                 }
-                self.sim.as_mut().expect("just ensured").restore(state)?;
             }
         }
         self.mode = snap.mode;

@@ -7,7 +7,7 @@
 //!   A w_{n+1} = 2 M w_n − A w_{n−1} + ½Δt²(p_{n+1} + p_{n−1}) f − m₁ (z_{n+1} − 2z_n + z_{n−1}) + Bᵀμ,
 //!
 //! which is the scheme of SPEC §3 for u exactly (up to the round-off of K𝟙), and the start step
-//! A w_1 = M w_0 + ¼Δt²(p_1 + p_0)·2 f/2 − m₁ (z_1 − z_0) + Bᵀμ (v_0 = 0). The obstacle bounds
+//! A w_1 = M w_0 + ¼Δt²(p_1 + p_0) f − m₁ (z_1 − z_0) + Bᵀμ (v_0 = 0, F̄_0 read as (F_1 + F_0)/2). The obstacle bounds
 //! on u become g − z_{n+1} on w; with restitution e they are imposed on (u_{n+1} + e u_{n−1})/(1 + e),
 //! i.e. on u_{n+1} ∈ [(1+e)g1 − e u_{n−1}, (1+e)g2 − e u_{n−1}] (Paoli–Schatzman), still a box.
 //! μ is the QP multiplier: the contact force at a vertex is μ/Δt² (N).
@@ -190,16 +190,20 @@ pub struct StepReport {
     pub active: usize,
     /// The solver path.
     pub path: StepPath,
-    /// Whether the constrained values had to be evaluated in full (false when the modal
-    /// screening proved the step contact-free, or when there is no constraint).
+    /// Whether the constrained values had to be evaluated in full: false when the backend's cheap
+    /// test proved the step contact-free (the modal low-mode screening; for the sparse backend that
+    /// test is itself exact), or when there is no constraint.
     pub bounds_evaluated: bool,
 }
 
-/// The serializable dynamic state of a [`Stepper`] (with the scene, its fixed parameters).
+/// The serializable dynamic state of a [`Stepper`]: the scene (fixed parameters, and tunable ones
+/// at their current values), the linear backend whose coordinates it holds, and the fields.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct State {
     /// Parameters, tunable ones at their current values.
     pub scene: Scene,
+    /// The backend that ran (`Modal` or `Sparse`): `previous` and `current` are in its coordinates.
+    pub backend: LinearChoice,
     /// n.
     pub step_index: u64,
     /// (z_{n−1}, z_n) (m).
@@ -286,7 +290,10 @@ impl Stepper {
             )),
         };
         let m = free.constrained.len();
-        let constrained_w0: Vec<f64> = free.constrained.iter().map(|&i| w0[i]).collect();
+        // The constrained values of w_0 as the backend evaluates them, so that a state restored
+        // at n = 0 or 1 continues bit-identically (restore evaluates them the same way).
+        let mut constrained_w0 = vec![0.0; m];
+        propagator.constrained_values(Level::Current, &mut constrained_w0);
         Ok(Stepper {
             scene: scene.clone(),
             propagator,
@@ -355,13 +362,35 @@ impl Stepper {
         &self.forces
     }
 
-    /// Changes the obstacle levels (tunable). The current state must satisfy the new bounds.
+    /// Changes the obstacle levels (tunable). The base and every constrained vertex must lie
+    /// within the new levels (to 1e-12 of the gap): moving an obstacle into the plate would make
+    /// the next step push it out within one Δt, an arbitrary impulse, so that is refused.
     pub fn set_obstacles(&mut self, lower: f64, upper: f64) -> Result<(), Error> {
         let mut scene = self.scene.clone();
         scene.obstacle.lower = lower;
         scene.obstacle.upper = upper;
         scene.validate()?;
         check_base(&scene, self.time(), self.base[1])?;
+        let tolerance = 1e-12 * (upper - lower).abs().min(1.0);
+        let u = self.constrained_displacements();
+        if let Some(g) = scene.lower_obstacle() {
+            if let Some(v) = u.iter().find(|&&v| v < g - tolerance) {
+                return Err(Error::invalid(
+                    "obstacle.lower",
+                    lower,
+                    &format!("must not be above the plate: a vertex is at u = {v} m"),
+                ));
+            }
+        }
+        if let Some(g) = scene.upper_obstacle() {
+            if let Some(v) = u.iter().find(|&&v| v > g + tolerance) {
+                return Err(Error::invalid(
+                    "obstacle.upper",
+                    upper,
+                    &format!("must not be below the plate: a vertex is at u = {v} m"),
+                ));
+            }
+        }
         self.scene = scene;
         Ok(())
     }
@@ -575,7 +604,8 @@ impl Stepper {
                 + 2.0 * base_velocity * pieces.translation_mass_velocity
                 + pieces.velocity_mass_velocity);
         let elastic = 0.25 * (pieces.stiffness_current + pieces.stiffness_previous);
-        let p = self.scene.load.pressure;
+        // The pressure that acted on the last step, not one set since for the next.
+        let p = self.pressure[1];
         let work = 0.5 * p * (free.area * (z0 + z1) + pieces.load_current + pieces.load_previous);
         let [a, b, c] = self.propagator.output_values();
         Outputs {
@@ -595,6 +625,7 @@ impl Stepper {
         let (previous, current) = self.propagator.state();
         State {
             scene: self.scene.clone(),
+            backend: self.linear,
             step_index: self.step_index,
             base: self.base,
             pressure: self.pressure,
@@ -617,6 +648,7 @@ impl Stepper {
         fixed.solver.qp = self.scene.solver.qp;
         let m = self.free.constrained.len();
         if fixed != self.scene
+            || state.backend != self.linear
             || state.previous.len() != self.propagator.dimension()
             || state.current.len() != self.propagator.dimension()
             || state.forces.len() != m
