@@ -111,6 +111,8 @@ struct Run {
     qp_steps: usize,
     /// Contact episodes: steps that end with a vertex in contact after a step that ended with none.
     impacts: usize,
+    /// t (s) at the end of the first step with a vertex in contact.
+    first_contact: Option<f64>,
     /// Corner displacement on the common grid 0, GRID, …, horizon.
     trace: Vec<f64>,
     energy_end: f64,
@@ -135,7 +137,7 @@ fn run(case: Case, horizon: f64) -> Result<Run, String> {
     };
     let mut samples = vec![stepper.outputs().corner1];
     let mut qp_steps = 0;
-    let (mut impacts, mut in_contact) = (0, false);
+    let (mut impacts, mut in_contact, mut first_contact) = (0, false, None);
     let t1 = Instant::now();
     for n in 1..=steps {
         let report = stepper
@@ -146,6 +148,7 @@ fn run(case: Case, horizon: f64) -> Result<Run, String> {
         }
         if report.active > 0 && !in_contact {
             impacts += 1;
+            first_contact.get_or_insert(n as f64 * case.dt);
         }
         in_contact = report.active > 0;
         if n % stride == 0 {
@@ -172,6 +175,7 @@ fn run(case: Case, horizon: f64) -> Result<Run, String> {
         steps,
         qp_steps,
         impacts,
+        first_contact,
         trace,
         energy_end,
     })
@@ -431,7 +435,8 @@ fn study() -> Result<(), String> {
     };
     let mut csv = String::from(
         "scene,element,nx,ny,h,free_dofs,dt,strategy,steps,qp_steps,impacts,setup_s,stepping_s,wall_s,\
-         ref_rms,ref_max,dt_rms,dt_max,h_rms,h_max,energy_end,energy_rel_err,diff_vs_fast\n",
+         ref_rms,ref_max,dt_rms,dt_max,h_rms,h_max,energy_end,energy_rel_err,diff_vs_fast,\
+         first_contact_s,pre_rms,pre_max\n",
     );
     let fmt_opt = |x: Option<f64>| x.map(|x| format!("{x:e}")).unwrap_or_default();
     for r in &runs {
@@ -450,11 +455,16 @@ fn study() -> Result<(), String> {
             .then(|| fast.get(&key(&Case { mesh: fine, ..*c })))
             .flatten()
             .map(|&j| difference(&r.trace, &runs[j].trace));
+        // Before the reference's first contact: the error of the motion up to the first impact.
+        let pre = rf.first_contact.map(|t| {
+            let k = (t / GRID).floor() as usize + 1;
+            difference(&r.trace[..k], &rf.trace[..k])
+        });
         let diff_vs_fast = (c.qp == QpChoice::Clarabel)
             .then(|| difference(&r.trace, &runs[fast[&key(c)]].trace).1);
         writeln!(
             csv,
-            "{},{},{},{},{},{},{:e},{},{},{},{},{:.6},{:.6},{:.6},{ref_rms:e},{ref_max:e},{},{},{},{},{:e},{:e},{}",
+            "{},{},{},{},{},{},{:e},{},{},{},{},{:.6},{:.6},{:.6},{ref_rms:e},{ref_max:e},{},{},{},{},{:e},{:e},{},{},{},{}",
             c.scene,
             element_name(c.element),
             c.mesh.0,
@@ -476,6 +486,9 @@ fn study() -> Result<(), String> {
             r.energy_end,
             ((r.energy_end - rf.energy_end) / rf.energy_end).abs(),
             fmt_opt(diff_vs_fast),
+            fmt_opt(r.first_contact),
+            fmt_opt(pre.map(|e| e.0)),
+            fmt_opt(pre.map(|e| e.1)),
         )
         .expect("write to string");
     }
