@@ -1,4 +1,4 @@
-//! Work-precision study (issue 5): error against wall time for both elements, three scenes, meshes
+//! Work-precision study: error against wall time for both elements, three scenes, meshes
 //! from coarse to fine and Δt from 1e-3 to 1e-6 s, plus the paper's Table 1 case and clarabel on
 //! every step as a second strategy.
 //!
@@ -34,7 +34,7 @@ use std::time::Instant;
 /// Spacing of the common time grid on which corner trajectories are compared (s).
 const GRID: f64 = 1e-4;
 
-/// Converged natural frequencies of the 0.4 × 0.2 m plate (Hz), from /work/shared/notes/elements.md.
+/// Converged natural frequencies of the 0.4 × 0.2 m plate (Hz), from `docs/elements.md` §7.
 const REFERENCE_HZ: [f64; 6] = [53.821, 231.63, 335.41, 753.91, 941.26, 1447.8];
 
 /// The study's scenes: the label used in the CSV and how it is built from a named scene.
@@ -674,9 +674,10 @@ fn study() -> Result<(), String> {
     plot(&out_dir, quick)?;
 
     // Contact-free orders in Δt (time error alone, paper mesh, over every Δt at least twice the
-    // reference's). The smooth control case must be second order (SPEC §3); the release from the
-    // static deflection excites every mode of the mesh, with amplitudes decaying only like a power
-    // of the frequency, so its pre-asymptotic order is lower (about 1.3–1.5): asserted above 1.2.
+    // reference's). The smooth control case must be second order (docs/scheme.md §6); the release
+    // from the static deflection excites every mode of the mesh, with amplitudes decaying only like
+    // a power of the frequency, so its pre-asymptotic order is lower (about 1.3–1.5): asserted
+    // above 1.2.
     let mut failures = Vec::new();
     for (scene, low, high) in [("free-smooth", 1.8, 2.2), ("free", 1.2, 2.2)] {
         for (element, mesh) in plan.paper_mesh {

@@ -1,5 +1,5 @@
 //! Global dofs, sparse assembly of M, K and the pressure load, the clamp, and point evaluation
-//! (SPEC §2).
+//! (`docs/elements.md` §5–6).
 //!
 //! Global dof numbering: vertex v carries dofs `k·v … k·v + k − 1` in the element's local vertex
 //! order (k = 6 for Argyris: w, h w_x, h w_y, h² w_xx, h² w_xy, h² w_yy; k = 3 for FVS: w, h w_x,
@@ -160,9 +160,10 @@ impl Discretization {
             .collect()
     }
 
-    /// The dofs the clamp fixes (SPEC §2), sorted: at Γc vertices w (= z(t)), w_x, w_y, and for
-    /// Argyris also w_xy, w_yy (w_xx stays free) and the normal derivative at the midpoint of every
-    /// edge lying on Γc. Every one of them is 0 except the value dofs, which equal z(t).
+    /// The dofs the clamp fixes (`docs/elements.md` §5), sorted: at Γc vertices w (= z(t)), w_x,
+    /// w_y, and for Argyris also w_xy, w_yy (w_xx stays free) and the normal derivative at the
+    /// midpoint of every edge lying on Γc. Every one of them is 0 except the value dofs, which
+    /// equal z(t).
     pub fn clamp_dofs(&self) -> Vec<usize> {
         let clamped = self.clamped_vertices();
         let k = dofs_per_vertex(self.element);
@@ -226,7 +227,8 @@ impl Discretization {
 
     /// Consistent mass M_ij = ∫ ρe φ_i φ_j and stiffness
     /// K_ij = D ∫ [(1 − ν)(φ_i,xx φ_j,xx + 2 φ_i,xy φ_j,xy + φ_i,yy φ_j,yy) + ν Δφ_i Δφ_j]
-    /// (SPEC §1–2), each with a quadrature exact for its integrand, as sparse symmetric matrices.
+    /// (`docs/elements.md` §6), each with a quadrature exact for its integrand, as sparse symmetric
+    /// matrices.
     pub fn assemble(
         &self,
         areal_mass: f64,

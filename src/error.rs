@@ -15,7 +15,7 @@ pub enum Error {
         /// The limit that was broken, e.g. `must lie in [0, 0.5)`.
         limit: String,
     },
-    /// The base displacement z(t) left the open gap (g1, g2) (SPEC §1).
+    /// The base displacement z(t) left the open gap (g1, g2) (`docs/model.md` §5).
     BaseOutsideGap {
         /// Time at which the base was to be applied (s).
         time: f64,

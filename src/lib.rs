@@ -1,5 +1,10 @@
 //! PlateImpact: a thin Kirchhoff–Love plate clamped on one edge to a moving base, free on the
-//! others, vibrating between two rigid flat obstacles (see `SPEC.md`).
+//! others, vibrating between two rigid flat obstacles.
+//!
+//! The repository's `docs/` describe what the crate computes: `docs/model.md` (the physical
+//! model and the shipped scenes), `docs/elements.md` (the C¹ elements and the discretisation),
+//! `docs/scheme.md` (the time scheme and how a step is solved) and `docs/fmu.md` (the FMU
+//! contract).
 //!
 //! Map of the crate, in the one direction its dependencies run:
 //! * [`mesh`], [`quadrature`]: structured meshes of the rectangle and exact triangle rules;

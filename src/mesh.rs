@@ -1,5 +1,5 @@
 //! Meshes of the plate's mid-plane: a general list of vertices and cells, plus constructors for
-//! the structured meshes of the rectangle (0, Lx) × (0, Ly) that SPEC §2 uses.
+//! the structured meshes of the rectangle (0, Lx) × (0, Ly) (`docs/elements.md` §1).
 //!
 //! Cells list their vertices counter-clockwise. Edges are global and oriented from the lower to the
 //! higher vertex id; `cell_edges[c][k]` is the edge joining local vertices k and k + 1 (mod the
@@ -89,7 +89,7 @@ impl Mesh {
     }
 
     /// Structured triangle mesh of (0, lx) × (0, ly) with nx × ny cells, each cut by the diagonal from
-    /// its lower-left to its upper-right corner (SPEC §2): 2·nx·ny triangles. Vertex (i, j) has id
+    /// its lower-left to its upper-right corner: 2·nx·ny triangles. Vertex (i, j) has id
     /// i + j (nx + 1).
     pub fn rectangle_triangles(lx: f64, ly: f64, nx: usize, ny: usize) -> Mesh {
         let vertices = grid_vertices(lx, ly, nx, ny);

@@ -1,5 +1,5 @@
-//! A scene: the full parameter set of one simulation (SPEC §4, §5), with serde so that the Rust
-//! library, the examples, the FMU and the Python scripts share one definition.
+//! A scene: the full parameter set of one simulation (`docs/model.md` §8), with serde so that the
+//! Rust library, the examples, the FMU and the Python scripts share one definition.
 //!
 //! Field paths match the FMU variable names: `plate.length`, `solver.time_step`, …  The named
 //! scenes of the paper live as JSON files in `scenes/` (embedded here at compile time) and are
@@ -91,7 +91,7 @@ fn default_linear() -> LinearChoice {
     LinearChoice::Auto
 }
 
-/// The two rigid flat obstacles g1 ≤ u ≤ g2 (SPEC §1).
+/// The two rigid flat obstacles g1 ≤ u ≤ g2 (`docs/model.md` §5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Obstacles {
@@ -156,7 +156,7 @@ pub struct Scene {
 }
 
 impl Default for Scene {
-    /// The FMU's start values (SPEC §5): the steel plate of SPEC §4 on a 10 × 7 Argyris mesh, at
+    /// The FMU's start values: the steel plate of `docs/model.md` §8 on a 10 × 7 Argyris mesh, at
     /// rest between obstacles at ±0.01 m, with no load and no built-in base motion.
     fn default() -> Scene {
         Scene {

@@ -8,8 +8,8 @@ use crate::modes::{dense_restriction, generalized_eigen, Modes};
 use crate::scene::Scene;
 use faer::sparse::SparseColMat;
 
-/// The points whose displacement the FMU reports (SPEC §4): free corners (Lx, 0), (Lx, Ly) and the
-/// free-edge midpoint (Lx, Ly/2).
+/// The points whose displacement the FMU reports (`docs/model.md` §7): free corners (Lx, 0),
+/// (Lx, Ly) and the free-edge midpoint (Lx, Ly/2).
 pub fn output_points(scene: &Scene) -> [[f64; 2]; 3] {
     let (lx, ly) = (scene.plate.length, scene.plate.width);
     [[lx, 0.0], [lx, ly], [lx, 0.5 * ly]]
@@ -26,7 +26,7 @@ pub struct PlateSystem {
     pub stiffness: SparseColMat<usize, f64>,
     /// Load vector of a 1 Pa pressure.
     pub unit_load: Vec<f64>,
-    /// Clamp dofs, sorted (SPEC §2).
+    /// Clamp dofs, sorted (`docs/elements.md` §5).
     pub clamp: Vec<usize>,
     /// Free dofs, sorted: every dof not in `clamp`.
     pub free: Vec<usize>,

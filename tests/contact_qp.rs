@@ -20,11 +20,11 @@ use rand::{Rng, SeedableRng};
 
 /// Gap scale of the random problems (m).
 const GAP: f64 = 0.01;
-/// Agreement of the PDAS and Clarabel minimisers: the project's requirement (issue 3) of 1e-9 m
-/// for a 1 cm gap, i.e. 1e-7 of the gap scale.
+/// Agreement of the PDAS and Clarabel minimisers: the project's requirement of 1e-9 m for a 1 cm
+/// gap (`docs/scheme.md` §9), i.e. 1e-7 of the gap scale.
 const AGREE: f64 = 1e-9;
 /// Bound violation allowed to the PDAS answer x = x* + A⁻¹Bᵀλ: the requirement of 1e-12 m per
-/// step (issue 3); the active values are exact up to the round-off of two dense solves.
+/// step (`docs/scheme.md` §9); the active values are exact up to the round-off of two dense solves.
 const PDAS_BOUND: f64 = 1e-12;
 /// Bound violation allowed to Clarabel: its scaled feasibility tolerance 1e-12 times the 1 cm gap
 /// scale, with a factor 10 for the unscaling.

@@ -1,5 +1,5 @@
 //! Argyris triangle: exactness on P5, duality of dofs and basis, C¹ conformity across edges with the
-//! global edge orientation, and the bending energy a(u, u) of SPEC §1.
+//! global edge orientation, and the bending energy a(u, u) (`docs/elements.md` §3).
 
 use plate_impact::element::argyris::ArgyrisCell;
 use plate_impact::element::{CellBasis, Jet};
@@ -89,7 +89,7 @@ fn combine(cell: &ArgyrisCell, dofs: &[f64], p: [f64; 2]) -> Jet {
 }
 
 /// Triangles to test on, each with its global dof scale h: the two triangles of one cell of the
-/// 10 × 7 structured mesh of SPEC §4 (lower-left → upper-right diagonal), a skewed triangle, a
+/// paper's 10 × 7 structured mesh (lower-left → upper-right diagonal), a skewed triangle, a
 /// flat one, and one far from the origin.
 fn shapes() -> Vec<([[f64; 2]; 3], f64)> {
     let mesh = Mesh::rectangle_triangles(0.4, 0.2, 10, 7);
@@ -294,7 +294,7 @@ fn structured_and_perturbed_meshes_are_c1() {
 const D: f64 = 19_230.8;
 const NU: f64 = 0.3;
 
-/// The bending energy density of SPEC §1 for the Hessian [w_xx, w_xy, w_yy] pair (w, v):
+/// The bending energy density of `docs/model.md` §3 for the Hessian [w_xx, w_xy, w_yy] pair (w, v):
 /// D [(1 − ν)(w_xx v_xx + 2 w_xy v_xy + w_yy v_yy) + ν Δw Δv].
 fn density(hw: [f64; 3], hv: [f64; 3]) -> f64 {
     D * ((1.0 - NU) * (hw[0] * hv[0] + 2.0 * hw[1] * hv[1] + hw[2] * hv[2])

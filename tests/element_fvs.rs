@@ -1,5 +1,6 @@
-//! Properties of the reduced FVS quadrilateral (SPEC §2): cubic reproduction, C¹ inside the
-//! macro-element and between elements, exact per-sub-triangle quadrature, and the bending energy.
+//! Properties of the reduced FVS quadrilateral (`docs/elements.md` §4): cubic reproduction, C¹
+//! inside the macro-element and between elements, exact per-sub-triangle quadrature, and the
+//! bending energy.
 
 // Index loops over the small fixed arrays (vertices, jet components, 12 × 12 matrices) read like
 // the formulas they implement.
@@ -412,7 +413,8 @@ fn assembled_space_is_c1_between_general_quads() {
     assert!(worst[0] <= 1e-10 && worst[1] <= 1e-10, "{worst:?}");
 }
 
-/// a(u, u) = D ∫ [(1 − ν)(u_xx² + 2u_xy² + u_yy²) + ν(Δu)²] (SPEC §1) with the cell's rule.
+/// a(u, u) = D ∫ [(1 − ν)(u_xx² + 2u_xy² + u_yy²) + ν(Δu)²] (`docs/model.md` §3) with the cell's
+/// rule.
 fn bending_energy(cell: &FvsCell, dofs: &[f64], d: f64, nu: f64) -> f64 {
     cell.quadrature(2)
         .iter()

@@ -1,12 +1,12 @@
 //! Natural frequencies of the cantilever plate against the reference values of
-//! `notes/elements.md` (converged to 4–5 digits by independent methods) and the literature, and
+//! `docs/elements.md` §7 (converged to 4–5 digits by independent methods) and the literature, and
 //! their convergence under mesh refinement.
 
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::system::PlateSystem;
 
-/// Converged f₁…f₆ (Hz) for the three aspect ratios (notes/elements.md).
+/// Converged f₁…f₆ (Hz) for the three aspect ratios (`docs/elements.md` §7).
 const REFERENCE: [((f64, f64), [f64; 6]); 3] = [
     ((0.4, 0.2), [53.821, 231.63, 335.41, 753.91, 941.26, 1447.8]),
     (
@@ -27,7 +27,7 @@ fn frequencies(element: ElementKind, lx: f64, ly: f64, nx: usize, ny: usize) -> 
     plate.modes().unwrap().frequencies_hz()[..6].to_vec()
 }
 
-/// The dof counts of notes/elements.md.
+/// The dof counts of `docs/elements.md` §5.
 #[test]
 fn dof_counts_match_the_formulas() {
     let mut s = Scene::default();
@@ -44,9 +44,9 @@ fn dof_counts_match_the_formulas() {
 
 /// Conforming elements give upper bounds, so f_h ≥ f_ref up to the references' own accuracy
 /// (5 digits: 2e-5 relative). Meshes as fine as the paper's (Argyris 10 × 7, FVS 14 × 10 on
-/// 0.4 × 0.2, the same cell counts turned or squared for the other plates). Argyris: the notes
-/// report 0.02 % at 10 × 7; we allow 0.05 % for the coarser cells of the turned plates. FVS converges
-/// like h² (0.08–0.8 % at 14 × 10 per the notes); we allow 1.5 %.
+/// 0.4 × 0.2, the same cell counts turned or squared for the other plates). Argyris: 0.02 % at
+/// 10 × 7 on the 0.4 × 0.2 plate (`docs/elements.md` §7); we allow 0.05 % for the coarser cells of
+/// the turned plates. FVS converges like h² (0.05–0.8 % at 14 × 10); we allow 1.5 %.
 #[test]
 fn frequencies_match_the_references_for_three_aspect_ratios() {
     let meshes = [[(10, 7), (14, 10)], [(7, 10), (10, 14)], [(7, 7), (10, 10)]];

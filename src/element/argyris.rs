@@ -18,7 +18,8 @@
 //! A_ij = L_i(m_j) of the dofs L_i applied to the monomials; the basis function φ_k = Σ_j C_jk m_j
 //! satisfies L_i(φ_k) = δ_ik, i.e. C = A⁻¹. Both scalings (dofs by the global `h`, monomials by the
 //! cell size `s`) keep A well conditioned: cond₁(A) ≈ 3e3–2e4 on shape-regular cells (the
-//! structured cells of SPEC §2 included), growing with the aspect ratio (≈ 1e6 at aspect 7).
+//! structured cells of `docs/elements.md` §1 included), growing with the aspect ratio (≈ 1e6 at
+//! aspect 7).
 
 use super::{CellBasis, Jet};
 use crate::quadrature::{self, QuadPoint};

@@ -1,5 +1,5 @@
-//! The reduced Fraeijs de Veubeke–Sanders (FVS) quadrilateral (SPEC §2): a C¹ composite
-//! macro-element with 12 dofs.
+//! The reduced Fraeijs de Veubeke–Sanders (FVS) quadrilateral (`docs/elements.md` §4): a C¹
+//! composite macro-element with 12 dofs.
 //!
 //! The convex quadrilateral P₀P₁P₂P₃ is split by its two diagonals into the four sub-triangles
 //! Tᵢ = (C, Pᵢ, Pᵢ₊₁), where C is the intersection of the diagonals. The space is
@@ -10,9 +10,9 @@
 //! Veubeke, "A conforming finite element for plate bending", Int. J. Solids Struct. 4 (1968);
 //! Ciarlet, *The Finite Element Method for Elliptic Problems*, ch. 6, on composite C¹ elements).
 //!
-//! Construction (`notes/elements.md`, "Reduced FVS quadrilateral"): per element, in physical
-//! coordinates scaled about the centre, ξ = (x − C)/s with s = maxₖ |Pₖ − C|, each basis function
-//! is four cubics (40 coefficients) fixed by 44 linear conditions:
+//! Construction: per element, in physical coordinates scaled about the centre, ξ = (x − C)/s with
+//! s = maxₖ |Pₖ − C|, each basis function is four cubics (40 coefficients) fixed by 44 linear
+//! conditions:
 //! * 12 dofs: at vertex Pₖ, on piece Tₖ, the value and h ∂ₓw, h ∂ᵧw;
 //! * 28 on the half-diagonals C→Pₖ (shared by Tₖ₋₁ and Tₖ): the jump of the two cubics vanishes at 4
 //!   points (C⁰, the jump is cubic along the segment) and the jump of its normal derivative at 3
@@ -30,9 +30,10 @@
 //!
 //! Approximation: V contains P₂, but not P₃ — a general cubic has a quadratic normal derivative
 //! along the edges. (On an axis-parallel rectangle V also contains x³ and y³, as the tests check;
-//! with four different edge directions the four conditions generically exclude every cubic.) The interpolation error is therefore O(h) in the H² seminorm (energy)
-//! and the eigenvalues converge like O(h²) (`notes/elements.md`); the full 16-dof FVS element,
-//! which adds the edge-midpoint normal derivatives, contains P₃.
+//! with four different edge directions the four conditions generically exclude every cubic.) The
+//! interpolation error is therefore O(h) in the H² seminorm (energy) and the eigenvalues converge
+//! like O(h²) (`tests/modes.rs`); the full 16-dof FVS element, which adds the edge-midpoint normal
+//! derivatives, contains P₃.
 
 use super::{CellBasis, Jet};
 use crate::quadrature::{self, QuadPoint};

@@ -1,8 +1,8 @@
 //! C¹ plate elements: the basis functions of one cell, in physical coordinates.
 //!
-//! Both elements of SPEC §2 implement [`CellBasis`]. Their local dofs, and the scaling that keeps
-//! the assembled matrices well conditioned (derivative dofs multiplied by powers of the global
-//! length scale `h`, see `notes/elements.md`), are:
+//! Both elements (`docs/elements.md` §3–4) implement [`CellBasis`]. Their local dofs, and the
+//! scaling that keeps the assembled matrices well conditioned (derivative dofs multiplied by powers
+//! of the global length scale `h`, `docs/elements.md` §2), are:
 //!
 //! * Argyris (21 dofs): for local vertex k = 0, 1, 2 the six dofs at index 6k…6k+5 are
 //!   (w, h w_x, h w_y, h² w_xx, h² w_xy, h² w_yy); dof 18 + k is h ∂w/∂n at the midpoint of the edge
@@ -27,7 +27,7 @@ pub struct Jet {
     pub hess: [f64; 3],
 }
 
-/// The element family of a mesh (SPEC §2, FMU variable `mesh.element`).
+/// The element family of a mesh (FMU variable `mesh.element`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ElementKind {
