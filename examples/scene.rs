@@ -7,9 +7,9 @@
 //! `energy`); overrides use the FMU variable names plus `stop_time` and `solver.qp`, e.g.
 //! `mesh.element=fvs mesh.nx=14 mesh.ny=10 solver.time_step=1e-5 base.frequency=35`.
 //!
-//! Records are taken at t = 0 and after every N-th step (`--every N`, default 1), from time T on
-//! (`--from T`, default 0). Numbers are in shortest round-trip form, so they are the exact f64
-//! values.
+//! Records are taken at the steps n that are multiples of N (`--every N`, default 1; n = 0 is the
+//! initial state) and have t_n ≥ T (`--from T`, default 0). Numbers are in shortest round-trip
+//! form, so they are the exact f64 values.
 //! * The CSV (header `t,corner1,corner2,edge_mid,energy_total,active,contact_force`, one row per
 //!   record) goes to FILE with `--out`, else to stdout unless `--field` is given.
 //! * `--field FILE` writes JSON for animations (`examples/plate_animation.py`): the mesh
