@@ -1,15 +1,25 @@
-"""Main job: simulate the packaged FMU with fmpy and plot the results.
+"""Main job: the paper's scenes through the packaged FMU, an animation of the plate, its modes.
 
-Runs the default scene (the FMU's start values) and the paper's scenes (`forced` at 10 and
-35 Hz, `energy`) by setting the FMU parameters from the scene files in `scenes/`, then writes
-`out/<scene>.csv` and `out/<scene>.png` (free-corner and edge-midpoint displacements, energy).
+* Through the FMU (fmpy): the scenes `forced` (10 Hz), `forced-35hz` and `energy`, with the FMU
+  parameters set from the scene files in `scenes/`: `out/<scene>.csv` (every output, every 1 ms)
+  and `out/<scene>.png` (free-corner and edge-midpoint displacements, energy).
+* Through the library (`examples/scene.rs --field`): the displacement at every mesh vertex of
+  `forced-35hz` over three forcing periods from 0.4 s, `out/plate-field.json`, rendered as
+  `out/plate.gif` (`examples/plate_animation.py`). Its free-corner values and energy are checked
+  against the FMU's outputs at the same instants.
+* The lowest six mode shapes of the paper's plate (`examples/modes.rs --shapes`):
+  `out/modes.json`, plotted as `out/modes.png` (`examples/mode_shapes.py`).
 
-    python examples/simulate_fmu.py [--fmu target/fmu/PlateImpact.fmu] [--out out]
+Prints one line per file written.
+
+    python examples/simulate_fmu.py [--fmu target/fmu/PlateImpact.fmu] [--out out] [scene ...]
 """
 
 import argparse
 import json
 import pathlib
+import subprocess
+import sys
 import time
 
 import fmpy
@@ -19,12 +29,32 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import mode_shapes  # noqa: E402
+import plate_animation  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
            "energy.kinetic", "energy.elastic", "energy.total", "contact.active_nodes", "contact.force"]
 # Scene fields that are settings of the Rust examples, not FMU variables.
 NOT_FMU = {"stop_time", "solver.qp", "solver.linear"}
 ELEMENT = {"argyris": 1, "fvs": 2}
+# The animation: scene, start (s), forcing periods shown, internal steps per frame (0.6 ms at the
+# scene's Δt = 0.1 ms: an impact, about 1.8 ms long, spans three frames).
+ANIMATION = {"scene": "forced-35hz", "start": 0.4, "periods": 3, "every": 6}
+# The field's free-corner values and the FMU's corner outputs are the same discrete field
+# evaluated by two different sums (vertex values against point functionals), so they agree to
+# round-off (measured 2e-18 m); a wrong vertex numbering would differ by millimetres.
+CORNER_TOLERANCE_M = 1e-12
+# The paper's plate (the FMU defaults) for the mode shapes, sampled at 4 points per cell side.
+MODES = {"mesh": ["argyris", "10", "7"], "refine": 4}
+
+
+def shown(path):
+    """A path as printed: relative to the working directory when below it."""
+    try:
+        return path.resolve().relative_to(pathlib.Path.cwd())
+    except ValueError:
+        return path
 
 
 def flatten(tree, prefix=""):
@@ -44,7 +74,14 @@ def start_values(scene_name):
     return values, scene["stop_time"]
 
 
+def impacts(active):
+    """Number of rising edges of `active > 0` (contact episodes seen at the output points)."""
+    touching = np.asarray(active) > 0
+    return int(np.count_nonzero(touching[1:] & ~touching[:-1]) + touching[0])
+
+
 def simulate(fmu, scene_name, out_dir):
+    """Runs one scene through the FMU; writes its CSV and plot."""
     if scene_name == "default":
         values, stop = {}, 1.0
     else:
@@ -54,8 +91,11 @@ def simulate(fmu, scene_name, out_dir):
                                output=OUTPUTS)
     wall = time.perf_counter() - t0
     names = result.dtype.names
-    np.savetxt(out_dir / f"{scene_name}.csv", np.column_stack([result[n] for n in names]),
-               delimiter=",", header=",".join(names), comments="")
+    csv = out_dir / f"{scene_name}.csv"
+    np.savetxt(csv, np.column_stack([result[n] for n in names]), delimiter=",",
+               header=",".join(names), comments="")
+    print(f"{shown(csv)}: {len(result)} rows of time and {len(names) - 1} FMU outputs every 1 ms, "
+          f"{wall:.2f} s wall time")
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     for name, label in [("corner1.displacement", "corner (Lx, 0)"),
                         ("corner2.displacement", "corner (Lx, Ly)"),
@@ -70,23 +110,100 @@ def simulate(fmu, scene_name, out_dir):
     ax2.set_ylabel("energy (J)")
     ax2.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
-    fig.savefig(out_dir / f"{scene_name}.png", dpi=110)
+    png = out_dir / f"{scene_name}.png"
+    fig.savefig(png, dpi=110)
     plt.close(fig)
-    print(f"{scene_name}: {len(result)} output points, {wall:.2f} s, "
-          f"max |corner1| = {1e3 * np.abs(result['corner1.displacement']).max():.3f} mm, "
-          f"final energy {result['energy.total'][-1]:.3f} J -> {out_dir / (scene_name + '.png')}")
+    print(f"{shown(png)}: corners and energy of '{scene_name}', max |corner1| = "
+          f"{1e3 * np.abs(result['corner1.displacement']).max():.3f} mm, "
+          f"{impacts(result['contact.active_nodes'])} contact episodes, "
+          f"final energy {result['energy.total'][-1]:.3f} J")
+
+
+def run_example(name, args):
+    """Runs a Rust example of this crate in release mode; its log is shown only if it fails."""
+    command = ["cargo", "run", "--release", "--quiet", "--example", name, "--", *args]
+    done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"{' '.join(command)} failed:\n{done.stderr}")
+    return done.stdout
+
+
+def compare_with_fmu(fmu, field, values):
+    """Largest differences between the field's free corners and energy and the FMU's outputs at
+    the same instants (the FMU is run with the field's frame interval as communication step)."""
+    frames = field["frames"]
+    interval = frames[1]["t"] - frames[0]["t"]
+    result = fmpy.simulate_fmu(fmu, start_values=values, stop_time=frames[-1]["t"],
+                               output_interval=interval,
+                               output=["corner1.displacement", "corner2.displacement",
+                                       "energy.total"])
+    xy = np.array(field["vertices"])
+    corners = [int(np.flatnonzero(np.all(np.isclose(xy, [field["length"], y], rtol=0,
+                                                     atol=1e-12), axis=1))[0])
+               for y in (0.0, field["width"])]
+    corner_gap, energy_gap, matched = 0.0, 0.0, 0
+    for frame in frames:
+        row = np.flatnonzero(np.abs(result["time"] - frame["t"]) < 1e-9 * interval)
+        if len(row) == 0:
+            continue
+        r = result[row[0]]
+        matched += 1
+        for vertex, name in zip(corners, ["corner1.displacement", "corner2.displacement"]):
+            corner_gap = max(corner_gap, abs(frame["u"][vertex] - r[name]))
+        energy_gap = max(energy_gap, abs(frame["energy"] - r["energy.total"]))
+    if matched < len(frames) // 2:
+        sys.exit(f"only {matched} of {len(frames)} field frames fall on FMU output times")
+    if corner_gap > CORNER_TOLERANCE_M:
+        sys.exit(f"the field's free corners differ from the FMU's corner outputs by "
+                 f"{corner_gap:.3g} m (limit {CORNER_TOLERANCE_M:g} m)")
+    return matched, corner_gap, energy_gap
+
+
+def animate(fmu, out_dir):
+    """The plate's field from the library, checked against the FMU, rendered as a GIF."""
+    scene = ANIMATION["scene"]
+    values, _ = start_values(scene)
+    stop = ANIMATION["start"] + ANIMATION["periods"] / values["base.frequency"]
+    path = out_dir / "plate-field.json"
+    run_example("scene", [scene, f"stop_time={stop!r}", "--from", str(ANIMATION["start"]),
+                          "--every", str(ANIMATION["every"]), "--field", str(path)])
+    field = json.loads(path.read_text())
+    matched, corner_gap, energy_gap = compare_with_fmu(fmu, field, values)
+    frames = field["frames"]
+    print(f"{shown(path)}: '{scene}' from the library, {len(frames)} frames of u at "
+          f"{len(field['vertices'])} vertices, t = {frames[0]['t']:.4f} to "
+          f"{frames[-1]['t']:.4f} s; "
+          f"at {matched} frames the free corners equal the FMU's outputs to {corner_gap:.1e} m "
+          f"and the energy to {energy_gap:.1e} J")
+    gif = out_dir / "plate.gif"
+    print(plate_animation.summary(shown(gif), plate_animation.render(field, gif)))
+
+
+def plot_modes(out_dir):
+    """The lowest mode shapes of the paper's plate."""
+    path = out_dir / "modes.json"
+    run_example("modes", [*MODES["mesh"], "--shapes", str(path), "--refine",
+                          str(MODES["refine"])])
+    data = json.loads(path.read_text())
+    print(f"{shown(path)}: {len(data['shapes'])} mode shapes of the {data['element']} "
+          f"{data['nx']} × {data['ny']} plate on a {len(data['x'])} × {len(data['y'])} grid")
+    png = out_dir / "modes.png"
+    print(mode_shapes.summary(shown(png), mode_shapes.render(data, png)))
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fmu", default=str(ROOT / "target" / "fmu" / "PlateImpact.fmu"))
     parser.add_argument("--out", default=str(ROOT / "out"))
-    parser.add_argument("scenes", nargs="*", default=["default", "forced", "forced-35hz", "energy"])
+    parser.add_argument("scenes", nargs="*", default=["forced", "forced-35hz", "energy"],
+                        help="scenes run through the FMU (file stems of scenes/, or default)")
     args = parser.parse_args()
     out_dir = pathlib.Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)
     for scene_name in args.scenes:
         simulate(args.fmu, scene_name, out_dir)
+    animate(args.fmu, out_dir)
+    plot_modes(out_dir)
 
 
 if __name__ == "__main__":
