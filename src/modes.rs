@@ -17,7 +17,7 @@ use crate::error::Error;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::sparse::SparseColMat;
+use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Par, Side};
 
 /// Eigenpairs of the clamped plate, sorted by increasing ω².
@@ -39,22 +39,28 @@ impl Modes {
     }
 }
 
-/// Restriction of a sparse symmetric matrix to the rows and columns `keep`, as a dense matrix.
-pub fn dense_restriction(a: &SparseColMat<usize, f64>, keep: &[usize]) -> Mat<f64> {
-    let mut position = vec![usize::MAX; a.nrows()];
+/// The submatrix A[keep, keep] of a sparse matrix, sparse: entry (k, l) is A[keep[k], keep[l]].
+/// `keep` must hold distinct indices below A's order. faer builds it from A's entries with the
+/// dropped rows and columns given negative indices, which it ignores.
+pub fn sparse_restriction(
+    a: &SparseColMat<usize, f64>,
+    keep: &[usize],
+) -> SparseColMat<usize, f64> {
+    let mut position = vec![-1_isize; a.nrows()];
     for (k, &d) in keep.iter().enumerate() {
-        position[d] = k;
+        position[d] = k as isize;
     }
-    let mut out = Mat::zeros(keep.len(), keep.len());
-    let a = a.as_ref();
-    for (jk, &j) in keep.iter().enumerate() {
-        for (i, &v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
-            if position[i] != usize::MAX {
-                out[(position[i], jk)] += v;
-            }
-        }
-    }
-    out
+    let entries: Vec<Triplet<isize, isize, f64>> = a
+        .triplet_iter()
+        .map(|t| Triplet::new(position[t.row], position[t.col], *t.val))
+        .collect();
+    SparseColMat::try_new_from_nonnegative_triplets(keep.len(), keep.len(), &entries)
+        .expect("restricted indices lie below keep.len()")
+}
+
+/// The submatrix A[keep, keep] of a sparse matrix, dense (see [`sparse_restriction`]).
+pub fn dense_restriction(a: &SparseColMat<usize, f64>, keep: &[usize]) -> Mat<f64> {
+    sparse_restriction(a, keep).to_dense()
 }
 
 /// All eigenpairs of K φ = ω² M φ for dense symmetric positive definite K and M.

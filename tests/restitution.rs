@@ -1,4 +1,4 @@
-//! The Paoli–Schatzman restitution coefficient e (SPEC §3): the obstacle bound is imposed on
+//! The Paoli–Schatzman restitution coefficient e (docs/scheme.md): the obstacle bound is imposed on
 //! (u_{n+1} + e·u_{n−1})/(1 + e). What is checked here: e = 0 is the paper's scheme bit for bit,
 //! the energy lost in the `energy` scene falls as e grows, e = 1 keeps the energy within a bound
 //! that shrinks with Δt, and the fast path agrees with clarabel for e > 0 as it does for e = 0.
@@ -25,7 +25,7 @@ struct Run {
     /// Largest g1 − u_{n+1} over all constrained vertices and steps (m): the penetration of u.
     penetration: f64,
     /// Largest g1 − (u_{n+1} + e u_{n−1})/(1 + e) (m): the violation of the imposed constraint
-    /// (u_{−1} := u_1 at the start step, SPEC §3 with v_0 = 0).
+    /// (u_{−1} := u_1 at the start step, docs/scheme.md with v_0 = 0).
     averaged_violation: f64,
     /// Steps that needed a QP.
     contact_steps: usize,
@@ -178,7 +178,7 @@ fn energy_deviation(r: &Run) -> f64 {
 }
 
 /// Why e > 0 can gain energy, as an identity the run must satisfy. Multiplying the scheme by
-/// u_{n+1} − u_{n−1} (SPEC §3; fixed base, no load) gives exactly
+/// u_{n+1} − u_{n−1} (docs/scheme.md; fixed base, no load) gives exactly
 ///   E_{n+½} − E_{n−½} = ½ Σ_i f_i (u_{n+1,i} − u_{n−1,i}),
 /// f_i the contact force. At an active lower contact (u_{n+1,i} + e u_{n−1,i})/(1+e) = g1, so
 /// u_{n+1,i} − u_{n−1,i} = (1+e)(g1 − u_{n−1,i}): the step dissipates while u_{n−1,i} ≥ g1 (always
@@ -292,8 +292,8 @@ fn elastic_restitution_energy_bound_and_its_time_step_dependence() {
     );
 }
 
-/// SPEC §3 starts from rest with u_{−1} := u_1 − 2Δt v_0 = u_1, so at the start step the
-/// constraint (u_1 + e u_{−1})/(1 + e) is on u_1 itself, for every e. A plate pressed onto the lower
+/// The scheme (docs/scheme.md) starts from rest with u_{−1} := u_1 − 2Δt v_0 = u_1, so at the
+/// start step the constraint (u_1 + e u_{−1})/(1 + e) is on u_1 itself, for every e. A plate pressed onto the lower
 /// obstacle by the preload and then pushed much harder (−4e7 Pa): vertices just above g1 at t = 0
 /// must not cross it at t_1 (to 1e-12 m), whatever e. (Taking u_{−1} = u_0 instead let u_1 cross
 /// g1 by 6.0e-4 m at e = 0.5.)

@@ -1,4 +1,4 @@
-//! The time scheme against the laws of SPEC §3: energy conservation without contact, energy decay
+//! The time scheme against the laws of docs/scheme.md: energy conservation without contact, energy decay
 //! with contact, bounds and force signs, fast path = clarabel, second order in Δt, symmetry.
 
 mod common;

@@ -1,9 +1,10 @@
-//! Stability matrix (issue 6): stiff and extreme scenes that the stepper must survive, or refuse
+//! Stability matrix: stiff and extreme scenes that the stepper must survive, or refuse
 //! with an error that names the parameter and its limit.
 //!
 //! Every run goes through [`run`], which checks after each step: all outputs, constrained
-//! displacements and contact forces finite; every bound of SPEC §3 satisfied to 1e-9 of the gap
-//! (on (u_{n+1} + e u_{n−1})/(1 + e) when the restitution e > 0); and the energy law: with a fixed
+//! displacements and contact forces finite; every bound of the scheme (docs/scheme.md) satisfied
+//! to 1e-9 of the gap (on (u_{n+1} + e u_{n−1})/(1 + e) when the restitution e > 0); and the
+//! energy law: with a fixed
 //! base and no load, E_{n+½} never rises by more than round-off, 1e-11 of the energy scale (the
 //! largest |E| seen) per step; with forcing, E stays bounded (no growth beyond a stated factor).
 //! Horizons are short: the matrix is a survival test, not a convergence study.
@@ -69,7 +70,7 @@ fn run(scene: &Scene, steps: usize, extra: impl Fn(f64) -> f64) -> Result<Measur
     };
     let clock = Instant::now();
     let fixed_base = scene.base.amplitude == 0.0 && (0..4).all(|k| extra(k as f64) == 0.0);
-    // A constant load keeps the law (SPEC §3: E includes −½Fᵀ(u_{n+1} + u_n)).
+    // A constant load keeps the law (docs/scheme.md: E includes −½Fᵀ(u_{n+1} + u_n)).
     let unforced = fixed_base;
     let e = scene.solver.restitution;
     let (g1, g2) = (scene.lower_obstacle(), scene.upper_obstacle());

@@ -1,6 +1,6 @@
 //! The contact-free part of the scheme in the M-orthonormal eigenbasis of the clamped plate.
 //!
-//! With w_f = Φ q, Φᵀ M_ff Φ = I and Φᵀ K_ff Φ = Ω², the β = ½ scheme (SPEC §3) decouples into one
+//! With w_f = Φ q, Φᵀ M_ff Φ = I and Φᵀ K_ff Φ = Ω², the β = ½ scheme (docs/scheme.md) decouples into one
 //! scalar recurrence per mode k, d_k = 1 + ½Δt²ω_k²:
 //!   d_k q_{n+1} = 2 q_n − d_k q_{n−1} + (Φᵀ r)_k   (start step: d_k q_1 = q_0 + (Φᵀ r)_k),
 //! where r is the free-dof forcing of the step. All modes are kept: this is the same scheme, not a
@@ -13,7 +13,7 @@
 //! step is proven contact-free at the cost of an m × |L| product instead of m × n; only steps near
 //! an obstacle pay for the full product.
 
-use super::{Propagator, StepForcing};
+use super::backend::{EnergyPieces, LinearBackend, StepForcing};
 use crate::modes::Modes;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, Mat, Par};
@@ -38,10 +38,10 @@ pub struct ModalData {
     high_row_norms: Vec<f64>,
     /// ‖C_i‖₂ per constrained vertex: scales the round-off margin of the screening.
     row_norms: Vec<f64>,
-    /// Φᵀ f for the unit load, for the free part of the mass times the translation (Φᵀ m₁), and
-    /// the output functionals (rows of E Φ).
+    /// Φᵀ f for the unit load, Φᵀ m₁ for the mass times the translation, and the output
+    /// functionals (rows of E Φ).
     load: Vec<f64>,
-    base: Vec<f64>,
+    translation_mass: Vec<f64>,
     outputs: [Vec<f64>; 3],
     /// M_ff and Φ for mapping full vectors to modal coordinates: q = Φᵀ M_ff w.
     mass_free: Mat<f64>,
@@ -54,7 +54,7 @@ impl ModalData {
         time_step: f64,
         constrained: &[usize],
         load_free: &[f64],
-        base_free: &[f64],
+        translation_mass_free: &[f64],
         outputs_free: [Vec<f64>; 3],
         mass_free: Mat<f64>,
     ) -> ModalData {
@@ -88,7 +88,7 @@ impl ModalData {
         let high_row_norms = (0..m).map(|i| row_norm(i, low)).collect();
         let row_norms = (0..m).map(|i| row_norm(i, 0)).collect();
         let load = project(load_free);
-        let base = project(base_free);
+        let translation_mass = project(translation_mass_free);
         let outputs = outputs_free.map(|row| project(&row));
         ModalData {
             inverse_d: d.iter().map(|d| 1.0 / d).collect(),
@@ -100,7 +100,7 @@ impl ModalData {
             high_row_norms,
             row_norms,
             load,
-            base,
+            translation_mass,
             outputs,
             mass_free,
         }
@@ -110,27 +110,20 @@ impl ModalData {
 /// Number of low modes whose contribution the screening evaluates exactly (see the module docs).
 pub const SCREENING_MODES: usize = 32;
 
-/// Modal state: q_{n−1}, q_n and the prediction q_{n+1}.
+/// The modal backend: fields are modal coordinates q (w_f = Φ q).
 #[derive(Clone, Debug)]
-pub struct ModalPropagator {
+pub struct ModalBackend {
     data: Arc<ModalData>,
-    previous: Vec<f64>,
-    current: Vec<f64>,
-    next: Vec<f64>,
     /// Workspace: the low-mode part of the constrained values.
     low_values: Vec<f64>,
-    /// ‖q_L‖², ‖q_H‖² of the prediction, from [`Propagator::predict`].
+    /// ‖q_L‖², ‖q_H‖² of the last prediction, from [`LinearBackend::predict`].
     next_norms_squared: [f64; 2],
 }
 
-impl ModalPropagator {
-    /// A propagator at rest in the relative field `w0` (free dofs).
-    pub fn new(data: Arc<ModalData>, w0: &[f64]) -> ModalPropagator {
-        let q0 = to_modal(&data, w0);
-        ModalPropagator {
-            previous: q0.clone(),
-            current: q0.clone(),
-            next: q0,
+impl ModalBackend {
+    /// A backend over the precomputed modal data.
+    pub fn new(data: Arc<ModalData>) -> ModalBackend {
+        ModalBackend {
             low_values: vec![0.0; data.c.nrows()],
             next_norms_squared: [f64::INFINITY; 2],
             data,
@@ -138,45 +131,44 @@ impl ModalPropagator {
     }
 }
 
-/// q = Φᵀ M_ff w.
-fn to_modal(data: &ModalData, w: &[f64]) -> Vec<f64> {
-    let n = w.len();
-    let w = Col::from_fn(n, |i| w[i]);
-    let mw = &data.mass_free * &w;
-    let q = data.shapes.transpose() * &mw;
-    (0..n).map(|k| q[k]).collect()
-}
+impl LinearBackend for ModalBackend {
+    fn dimension(&self) -> usize {
+        self.data.inverse_d.len()
+    }
 
-impl Propagator for ModalPropagator {
-    fn predict(&mut self, forcing: &StepForcing) {
+    fn predict(
+        &mut self,
+        previous: &[f64],
+        current: &[f64],
+        forcing: &StepForcing,
+        next: &mut [f64],
+    ) {
         let data = &*self.data;
-        let (load, base) = (forcing.load, forcing.base);
+        let (load, translation) = (forcing.load, forcing.translation);
         let (current_weight, previous_weight) = if forcing.start {
             (1.0, 0.0)
         } else {
             (2.0, 1.0)
         };
-        let next = self.next.iter_mut();
         for ((((q, &c), &p), &inverse_d), (&f, &m)) in next
-            .zip(&self.current)
-            .zip(&self.previous)
+            .iter_mut()
+            .zip(current)
+            .zip(previous)
             .zip(&data.inverse_d)
-            .zip(data.load.iter().zip(&data.base))
+            .zip(data.load.iter().zip(&data.translation_mass))
         {
-            *q = (current_weight * c + load * f + base * m) * inverse_d - previous_weight * p;
+            *q =
+                (current_weight * c + load * f + translation * m) * inverse_d - previous_weight * p;
         }
         // The squared norms of q_{n+1} over the low and the high modes, for the screening.
-        let low = SCREENING_MODES.min(self.next.len());
-        self.next_norms_squared = [
-            sum_of_squares(&self.next[..low]),
-            sum_of_squares(&self.next[low..]),
-        ];
+        let low = SCREENING_MODES.min(next.len());
+        self.next_norms_squared = [sum_of_squares(&next[..low]), sum_of_squares(&next[low..])];
     }
 
-    fn prediction_proven_within(&mut self, lower: f64, upper: f64) -> bool {
+    fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool {
         let data = &*self.data;
-        let low = SCREENING_MODES.min(self.next.len());
-        let q_low = &self.next[..low];
+        let low = SCREENING_MODES.min(next.len());
+        let q_low = &next[..low];
         let [low_squared, high_squared] = self.next_norms_squared;
         let (high, total) = (high_squared.sqrt(), (low_squared + high_squared).sqrt());
         let y = faer::ColMut::from_slice_mut(&mut self.low_values);
@@ -206,7 +198,7 @@ impl Propagator for ModalPropagator {
             .as_slice()
     }
 
-    fn correct(&mut self, active: &[usize], multipliers: &[f64]) {
+    fn correct(&mut self, next: &mut [f64], active: &[usize], multipliers: &[f64]) {
         for &i in active {
             let mu = multipliers[i];
             let column = self
@@ -215,49 +207,34 @@ impl Propagator for ModalPropagator {
                 .col(i)
                 .try_as_col_major()
                 .expect("owned matrices are column-major");
-            for (q, &c) in self.next.iter_mut().zip(column.as_slice()) {
+            for (q, &c) in next.iter_mut().zip(column.as_slice()) {
                 *q += mu * c;
             }
         }
     }
 
-    fn constrained_values(&self, which: super::Level, out: &mut [f64]) {
-        let q = match which {
-            super::Level::Previous => &self.previous,
-            super::Level::Current => &self.current,
-            super::Level::Next => &self.next,
-        };
-        constrained_values(&self.data, q, out);
+    fn constrained_values(&self, field: &[f64], out: &mut [f64]) {
+        constrained_values(&self.data, field, out);
     }
 
-    fn free_field(&self, which: super::Level) -> Vec<f64> {
-        let q = match which {
-            super::Level::Previous => &self.previous,
-            super::Level::Current => &self.current,
-            super::Level::Next => &self.next,
-        };
-        let q = Col::from_fn(q.len(), |k| q[k]);
+    fn to_free_dofs(&self, field: &[f64]) -> Vec<f64> {
+        let q = Col::from_fn(field.len(), |k| field[k]);
         let w = &self.data.shapes * &q;
         w.iter().copied().collect()
     }
 
-    fn set_next(&mut self, w: &[f64]) {
-        self.next = to_modal(&self.data, w);
+    fn field_of_free_dofs(&self, w: &[f64], field: &mut [f64]) {
+        field.copy_from_slice(&to_modal(&self.data, w));
     }
 
-    fn accept(&mut self) {
-        std::mem::swap(&mut self.previous, &mut self.current);
-        std::mem::swap(&mut self.current, &mut self.next);
-    }
-
-    fn energy(&self, time_step: f64) -> super::EnergyPieces {
+    fn energy(&self, previous: &[f64], current: &[f64], time_step: f64) -> EnergyPieces {
         let data = &*self.data;
-        let mut pieces = super::EnergyPieces::default();
-        for k in 0..self.current.len() {
-            let (q1, q0) = (self.current[k], self.previous[k]);
+        let mut pieces = EnergyPieces::default();
+        for k in 0..current.len() {
+            let (q1, q0) = (current[k], previous[k]);
             let v = (q1 - q0) / time_step;
             pieces.velocity_mass_velocity += v * v;
-            pieces.translation_mass_velocity += data.base[k] * v;
+            pieces.translation_mass_velocity += data.translation_mass[k] * v;
             pieces.stiffness_current += data.omega_squared[k] * q1 * q1;
             pieces.stiffness_previous += data.omega_squared[k] * q0 * q0;
             pieces.load_current += data.load[k] * q1;
@@ -266,26 +243,21 @@ impl Propagator for ModalPropagator {
         pieces
     }
 
-    fn output_values(&self) -> [f64; 3] {
+    fn output_values(&self, field: &[f64]) -> [f64; 3] {
         self.data
             .outputs
             .each_ref()
-            .map(|row| row.iter().zip(&self.current).map(|(a, b)| a * b).sum())
+            .map(|row| row.iter().zip(field).map(|(a, b)| a * b).sum())
     }
+}
 
-    fn state(&self) -> (Vec<f64>, Vec<f64>) {
-        (self.previous.clone(), self.current.clone())
-    }
-
-    fn set_state(&mut self, previous: Vec<f64>, current: Vec<f64>) {
-        self.next = current.clone();
-        self.previous = previous;
-        self.current = current;
-    }
-
-    fn dimension(&self) -> usize {
-        self.current.len()
-    }
+/// q = Φᵀ M_ff w.
+fn to_modal(data: &ModalData, w: &[f64]) -> Vec<f64> {
+    let n = w.len();
+    let w = Col::from_fn(n, |i| w[i]);
+    let mw = &data.mass_free * &w;
+    let q = data.shapes.transpose() * &mw;
+    (0..n).map(|k| q[k]).collect()
 }
 
 /// y = C q (the bound check: the floor cost of every exact method).

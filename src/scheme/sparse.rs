@@ -2,10 +2,12 @@
 //! (faer, with its fill-reducing ordering), for meshes too large for a dense eigenbasis.
 //!
 //! Per step: b = 2 M w_n − A w_{n−1} + r (start: b = M w_0 + r), then w_{n+1} = A⁻¹ b: two sparse
-//! matrix–vector products and two triangular solves. Delassus columns B A⁻¹ Bᵀ e_j are computed on
-//! demand (one solve each) and cached, so only vertices that ever touch an obstacle cost anything.
+//! matrix–vector products for b, and two Cholesky solves with one more product for the iterative
+//! refinement of [`SparseData`]. Delassus columns B A⁻¹ Bᵀ e_j are computed on demand (one solve
+//! each) and cached, so only vertices that ever touch an obstacle cost anything.
 
-use super::{dot, multiply, quadratic, EnergyPieces, FreeSystem, Level, Propagator, StepForcing};
+use super::backend::{EnergyPieces, LinearBackend, StepForcing};
+use super::free_system::{dot, multiply_add, quadratic, FreeSystem};
 use crate::error::Error;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::Llt;
@@ -45,7 +47,7 @@ impl SparseData {
         let mut residual = b.to_vec();
         self.factor
             .solve_in_place(ColMut::from_slice_mut(b).as_mat_mut());
-        multiply(&self.free.system, b, -1.0, &mut residual);
+        multiply_add(&self.free.system, b, -1.0, &mut residual);
         self.factor
             .solve_in_place(ColMut::from_slice_mut(&mut residual).as_mat_mut());
         for (x, r) in b.iter_mut().zip(&residual) {
@@ -54,52 +56,46 @@ impl SparseData {
     }
 }
 
-/// Sparse state: w_{n−1}, w_n and the prediction w_{n+1} over the free dofs.
+/// The sparse backend: fields are free-dof vectors w_f.
 #[derive(Clone, Debug)]
-pub struct SparsePropagator {
+pub struct SparseBackend {
     data: Arc<SparseData>,
-    previous: Vec<f64>,
-    current: Vec<f64>,
-    next: Vec<f64>,
     /// b of the step being solved, kept for the contact correction.
     rhs: Vec<f64>,
     delassus_cache: HashMap<usize, Vec<f64>>,
 }
 
-impl SparsePropagator {
-    /// A propagator at rest in the relative field `w0` (free dofs).
-    pub fn new(data: Arc<SparseData>, w0: &[f64]) -> SparsePropagator {
-        SparsePropagator {
-            data,
-            previous: w0.to_vec(),
-            current: w0.to_vec(),
-            next: w0.to_vec(),
-            rhs: vec![0.0; w0.len()],
+impl SparseBackend {
+    /// A backend over the factored system.
+    pub fn new(data: Arc<SparseData>) -> SparseBackend {
+        SparseBackend {
+            rhs: vec![0.0; data.load.len()],
             delassus_cache: HashMap::new(),
+            data,
         }
     }
 }
 
-impl Propagator for SparsePropagator {
-    fn predict(&mut self, forcing: &StepForcing) {
+impl LinearBackend for SparseBackend {
+    fn dimension(&self) -> usize {
+        self.data.load.len()
+    }
+
+    fn predict(
+        &mut self,
+        previous: &[f64],
+        current: &[f64],
+        forcing: &StepForcing,
+        next: &mut [f64],
+    ) {
         let data = &*self.data;
-        let b = &mut self.rhs;
-        for ((b, &f), &m) in b.iter_mut().zip(&data.load).zip(&data.base) {
-            *b = forcing.load * f + forcing.base * m;
-        }
-        if forcing.start {
-            multiply(&data.mass, &self.current, 1.0, b);
-        } else {
-            multiply(&data.mass, &self.current, 2.0, b);
-            multiply(&data.system, &self.previous, -1.0, b);
-        }
-        self.next.copy_from_slice(b);
-        data.solve(&mut self.next);
+        data.right_hand_side(forcing, previous, current, &mut self.rhs);
+        next.copy_from_slice(&self.rhs);
+        data.solve(next);
     }
 
     /// Exact: the constrained values are entries of w_{n+1}.
-    fn prediction_proven_within(&mut self, lower: f64, upper: f64) -> bool {
-        let next = &self.next;
+    fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool {
         self.data
             .constrained
             .iter()
@@ -116,79 +112,47 @@ impl Propagator for SparsePropagator {
         })
     }
 
-    fn correct(&mut self, active: &[usize], multipliers: &[f64]) {
+    fn correct(&mut self, next: &mut [f64], active: &[usize], multipliers: &[f64]) {
         let data = &*self.data;
-        self.next.copy_from_slice(&self.rhs);
+        next.copy_from_slice(&self.rhs);
         for &i in active {
-            self.next[data.constrained[i]] += multipliers[i];
+            next[data.constrained[i]] += multipliers[i];
         }
-        data.solve(&mut self.next);
+        data.solve(next);
     }
 
-    fn constrained_values(&self, which: Level, out: &mut [f64]) {
-        let w = match which {
-            Level::Previous => &self.previous,
-            Level::Current => &self.current,
-            Level::Next => &self.next,
-        };
+    fn constrained_values(&self, field: &[f64], out: &mut [f64]) {
         for (o, &d) in out.iter_mut().zip(&self.data.constrained) {
-            *o = w[d];
+            *o = field[d];
         }
     }
 
-    fn free_field(&self, which: Level) -> Vec<f64> {
-        match which {
-            Level::Previous => self.previous.clone(),
-            Level::Current => self.current.clone(),
-            Level::Next => self.next.clone(),
-        }
+    fn to_free_dofs(&self, field: &[f64]) -> Vec<f64> {
+        field.to_vec()
     }
 
-    fn set_next(&mut self, w: &[f64]) {
-        self.next.copy_from_slice(w);
+    fn field_of_free_dofs(&self, w: &[f64], field: &mut [f64]) {
+        field.copy_from_slice(w);
     }
 
-    fn accept(&mut self) {
-        std::mem::swap(&mut self.previous, &mut self.current);
-        std::mem::swap(&mut self.current, &mut self.next);
-    }
-
-    fn energy(&self, time_step: f64) -> EnergyPieces {
+    fn energy(&self, previous: &[f64], current: &[f64], time_step: f64) -> EnergyPieces {
         let data = &*self.data;
-        let v: Vec<f64> = self
-            .current
+        let v: Vec<f64> = current
             .iter()
-            .zip(&self.previous)
+            .zip(previous)
             .map(|(a, b)| (a - b) / time_step)
             .collect();
         EnergyPieces {
             velocity_mass_velocity: quadratic(&data.mass, &v),
-            translation_mass_velocity: dot(&data.base, &v),
-            stiffness_current: quadratic(&data.stiffness, &self.current),
-            stiffness_previous: quadratic(&data.stiffness, &self.previous),
-            load_current: dot(&data.load, &self.current),
-            load_previous: dot(&data.load, &self.previous),
+            translation_mass_velocity: dot(&data.translation_mass, &v),
+            stiffness_current: quadratic(&data.stiffness, current),
+            stiffness_previous: quadratic(&data.stiffness, previous),
+            load_current: dot(&data.load, current),
+            load_previous: dot(&data.load, previous),
         }
     }
 
-    fn output_values(&self) -> [f64; 3] {
-        self.data
-            .outputs
-            .each_ref()
-            .map(|row| dot(row, &self.current))
-    }
-
-    fn state(&self) -> (Vec<f64>, Vec<f64>) {
-        (self.previous.clone(), self.current.clone())
-    }
-
-    fn set_state(&mut self, previous: Vec<f64>, current: Vec<f64>) {
-        self.next = current.clone();
-        self.previous = previous;
-        self.current = current;
-    }
-
-    fn dimension(&self) -> usize {
-        self.current.len()
+    fn output_values(&self, field: &[f64]) -> [f64; 3] {
+        self.data.outputs.each_ref().map(|row| dot(row, field))
     }
 }

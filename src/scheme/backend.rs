@@ -1,0 +1,90 @@
+//! The narrow interface between the stepper and a linear backend.
+//!
+//! The stepper owns the fields of the three time levels (w_{n−1}, w_n and the next w_{n+1}) in the
+//! backend's coordinates, and everything else of the scheme: forcing, bounds, contact, outputs.
+//! A backend only maps fields: it predicts the unconstrained w_{n+1}, corrects it by contact
+//! multipliers, reads constrained vertex values, energy pieces and output values of a field, gives
+//! the Delassus operator column by column, and converts fields to and from free-dof vectors.
+
+/// Forcing of one step, as multipliers of the precomputed free-dof vectors f (unit load) and
+/// m₁ = (M𝟙)_f (the mass matrix times the rigid translation).
+#[derive(Clone, Copy, Debug)]
+pub struct StepForcing {
+    /// Multiplier of f: ½Δt²(p_{n+1} + p_{n−1}) (start: ½Δt²·(p_1 + p_0)/2).
+    pub load: f64,
+    /// Multiplier of m₁: −(z_{n+1} − 2z_n + z_{n−1}) (start: −(z_1 − z_0)).
+    pub translation: f64,
+    /// Whether this is the start step n = 0 → 1.
+    pub start: bool,
+}
+
+/// The quadratic and linear forms of two consecutive fields that the discrete energy needs.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct EnergyPieces {
+    /// ẇᵀMẇ with ẇ = (w_n − w_{n−1})/Δt.
+    pub velocity_mass_velocity: f64,
+    /// m₁ᵀẇ.
+    pub translation_mass_velocity: f64,
+    /// w_nᵀ K w_n.
+    pub stiffness_current: f64,
+    /// w_{n−1}ᵀ K w_{n−1}.
+    pub stiffness_previous: f64,
+    /// fᵀ w_n.
+    pub load_current: f64,
+    /// fᵀ w_{n−1}.
+    pub load_previous: f64,
+}
+
+/// The linear part of the scheme in one set of coordinates (see the module docs). A field is a
+/// slice of length [`LinearBackend::dimension`]; "the constrained values" of a field are the
+/// relative displacements w at the obstacle-constrained vertices, in their order.
+pub trait LinearBackend: Send {
+    /// Length of a field.
+    fn dimension(&self) -> usize;
+    /// Writes the unconstrained prediction A⁻¹b into `next`, b being the right-hand side of the
+    /// step from `previous` (w_{n−1}) and `current` (w_n), see
+    /// [`FreeSystem::right_hand_side`](super::FreeSystem::right_hand_side).
+    fn predict(
+        &mut self,
+        previous: &[f64],
+        current: &[f64],
+        forcing: &StepForcing,
+        next: &mut [f64],
+    );
+    /// Whether the last prediction `next` provably satisfies lower ≤ w ≤ upper at every
+    /// constrained vertex, without computing those values exactly (a cheap screening test).
+    /// `false` means "not proven", not "violated": the caller then evaluates the values.
+    fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool;
+    /// Column j of the Delassus operator W = B A⁻¹ Bᵀ.
+    fn delassus_column(&mut self, j: usize) -> &[f64];
+    /// Replaces the last prediction `next` by A⁻¹(b + Bᵀμ), μ nonzero only at `active`.
+    fn correct(&mut self, next: &mut [f64], active: &[usize], multipliers: &[f64]);
+    /// The constrained values of a field.
+    fn constrained_values(&self, field: &[f64], out: &mut [f64]);
+    /// A field as a free-dof vector w_f.
+    fn to_free_dofs(&self, field: &[f64]) -> Vec<f64>;
+    /// The field of a free-dof vector w_f.
+    fn field_of_free_dofs(&self, w: &[f64], field: &mut [f64]);
+    /// Energy pieces of two consecutive fields.
+    fn energy(&self, previous: &[f64], current: &[f64], time_step: f64) -> EnergyPieces;
+    /// A field's relative displacement w at the three output points.
+    fn output_values(&self, field: &[f64]) -> [f64; 3];
+}
+
+/// The Delassus operator of a backend, column by column, for the active-set solver.
+pub(crate) struct BackendDelassus<'a> {
+    /// The backend whose W is read.
+    pub backend: &'a mut dyn LinearBackend,
+    /// m, the number of constrained vertices.
+    pub dim: usize,
+}
+
+impl crate::contact::Delassus for BackendDelassus<'_> {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn column(&mut self, j: usize) -> &[f64] {
+        self.backend.delassus_column(j)
+    }
+}

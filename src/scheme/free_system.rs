@@ -1,0 +1,115 @@
+//! The plate restricted to its free dofs (clamp dofs removed) for one time step Δt: the matrices
+//! and vectors every linear backend and the clarabel reference path start from.
+
+use super::backend::StepForcing;
+use crate::modes::sparse_restriction;
+use crate::scene::Scene;
+use crate::system::PlateSystem;
+use faer::sparse::linalg::matmul::sparse_dense_matmul;
+use faer::sparse::SparseColMat;
+use faer::{Accum, ColMut, ColRef, Par};
+
+/// The free-dof restriction of the plate for one time step Δt.
+#[derive(Debug)]
+pub struct FreeSystem {
+    /// M_ff.
+    pub mass: SparseColMat<usize, f64>,
+    /// K_ff.
+    pub stiffness: SparseColMat<usize, f64>,
+    /// A = M_ff + ½Δt²K_ff.
+    pub system: SparseColMat<usize, f64>,
+    /// f_f for a 1 Pa pressure.
+    pub load: Vec<f64>,
+    /// m₁ = (M𝟙)_f: the mass matrix times the rigid translation, on the free dofs.
+    pub translation_mass: Vec<f64>,
+    /// Free-dof indices of the obstacle-constrained vertex values (empty without obstacles).
+    pub constrained: Vec<usize>,
+    /// Output functionals restricted to the free dofs.
+    pub outputs: [Vec<f64>; 3],
+    /// 𝟙ᵀM𝟙: the plate's mass (kg).
+    pub total_mass: f64,
+    /// ∫ 1: the plate's area (m²).
+    pub area: f64,
+}
+
+impl FreeSystem {
+    /// Restricts the assembled plate of `scene` to its free dofs.
+    pub fn new(scene: &Scene, plate: &PlateSystem) -> FreeSystem {
+        let keep = &plate.free;
+        let mass = sparse_restriction(&plate.mass, keep);
+        let stiffness = sparse_restriction(&plate.stiffness, keep);
+        let half_dt2 = 0.5 * scene.solver.time_step * scene.solver.time_step;
+        let system = &mass + &(&stiffness * faer::Scale(half_dt2));
+        let mut m_translation = vec![0.0; plate.disc.dof_count];
+        multiply_add(&plate.mass, &plate.translation, 1.0, &mut m_translation);
+        let has_obstacle = scene.obstacle.lower_enabled || scene.obstacle.upper_enabled;
+        FreeSystem {
+            mass,
+            stiffness,
+            system,
+            load: keep.iter().map(|&d| plate.unit_load[d]).collect(),
+            translation_mass: keep.iter().map(|&d| m_translation[d]).collect(),
+            constrained: if has_obstacle {
+                plate.constrained.clone()
+            } else {
+                Vec::new()
+            },
+            outputs: plate.outputs.each_ref().map(|f| {
+                let mut row = vec![0.0; keep.len()];
+                for (&d, &w) in f.dofs.iter().zip(&f.weights) {
+                    if let Ok(k) = keep.binary_search(&d) {
+                        row[k] += w;
+                    }
+                }
+                row
+            }),
+            total_mass: dot(&m_translation, &plate.translation),
+            area: dot(&plate.unit_load, &plate.translation),
+        }
+    }
+
+    /// The right-hand side b of a step over the free dofs, from w_{n−1} and w_n:
+    /// b = 2 M w_n − A w_{n−1} + r (start step: b = M w_0 + r), with r = load·f + base·m₁ the
+    /// forcing of [`StepForcing`].
+    pub fn right_hand_side(
+        &self,
+        forcing: &StepForcing,
+        previous: &[f64],
+        current: &[f64],
+        b: &mut [f64],
+    ) {
+        for ((b, &f), &m) in b.iter_mut().zip(&self.load).zip(&self.translation_mass) {
+            *b = forcing.load * f + forcing.translation * m;
+        }
+        if forcing.start {
+            multiply_add(&self.mass, current, 1.0, b);
+        } else {
+            multiply_add(&self.mass, current, 2.0, b);
+            multiply_add(&self.system, previous, -1.0, b);
+        }
+    }
+}
+
+/// y ← y + alpha·A x for a sparse A (faer's sparse × dense product).
+pub(crate) fn multiply_add(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, y: &mut [f64]) {
+    sparse_dense_matmul(
+        ColMut::from_slice_mut(y).as_mat_mut(),
+        Accum::Add,
+        a.as_ref(),
+        ColRef::from_slice(x).as_mat(),
+        alpha,
+        Par::Seq,
+    );
+}
+
+/// xᵀ A x for a sparse A.
+pub(crate) fn quadratic(a: &SparseColMat<usize, f64>, x: &[f64]) -> f64 {
+    let mut ax = vec![0.0; x.len()];
+    multiply_add(a, x, 1.0, &mut ax);
+    dot(&ax, x)
+}
+
+/// aᵀb, summed in index order.
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}

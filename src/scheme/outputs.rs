@@ -1,0 +1,24 @@
+//! What the FMU and the examples read after each step.
+
+use serde::{Deserialize, Serialize};
+
+/// What the FMU and the examples report after each step (the FMU outputs of docs/fmu.md).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Outputs {
+    /// u(Lx, 0) (m).
+    pub corner1: f64,
+    /// u(Lx, Ly) (m).
+    pub corner2: f64,
+    /// u(Lx, Ly/2) (m).
+    pub edge_mid: f64,
+    /// ½ v_{n+½}ᵀ M v_{n+½} (J).
+    pub energy_kinetic: f64,
+    /// ¼ (u_{n+1}ᵀKu_{n+1} + u_nᵀKu_n) (J).
+    pub energy_elastic: f64,
+    /// Kinetic + elastic − ½ Fᵀ(u_{n+1} + u_n) (J).
+    pub energy_total: f64,
+    /// Vertices in contact after the last step.
+    pub active_nodes: usize,
+    /// Sum of the contact forces (N), positive upwards.
+    pub contact_force: f64,
+}
