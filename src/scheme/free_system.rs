@@ -2,6 +2,7 @@
 //! and vectors every linear backend and the clarabel reference path start from.
 
 use super::backend::StepForcing;
+use super::vectors::dot;
 use crate::modes::sparse_restriction;
 use crate::scene::Scene;
 use crate::system::PlateSystem;
@@ -107,9 +108,4 @@ pub(crate) fn quadratic(a: &SparseColMat<usize, f64>, x: &[f64]) -> f64 {
     let mut ax = vec![0.0; x.len()];
     multiply_add(a, x, 1.0, &mut ax);
     dot(&ax, x)
-}
-
-/// aᵀb, summed in index order.
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }

@@ -28,13 +28,18 @@ mod free_system;
 pub mod modal;
 mod outputs;
 mod preload;
+mod reference;
 pub mod sparse;
 mod state;
 mod stepper;
+mod vectors;
 
 pub use auto::MODAL_AUTO_LIMIT;
 pub use backend::{EnergyPieces, LinearBackend, StepForcing};
 pub use free_system::FreeSystem;
 pub use outputs::Outputs;
 pub use state::State;
-pub use stepper::{StepPath, StepReport, Stepper};
+pub use state::MAX_STEP_INDEX;
+pub use stepper::{
+    StepPath, StepReport, Stepper, RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE,
+};

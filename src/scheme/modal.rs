@@ -14,6 +14,7 @@
 //! an obstacle pay for the full product.
 
 use super::backend::{EnergyPieces, LinearBackend, StepForcing};
+use super::vectors::{dot, sum_of_squares};
 use crate::modes::Modes;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, Mat, Par};
@@ -142,7 +143,7 @@ impl LinearBackend for ModalBackend {
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    ) {
+    ) -> f64 {
         let data = &*self.data;
         let (load, translation) = (forcing.load, forcing.translation);
         let (current_weight, previous_weight) = if forcing.start {
@@ -163,6 +164,29 @@ impl LinearBackend for ModalBackend {
         // The squared norms of q_{n+1} over the low and the high modes, for the screening.
         let low = SCREENING_MODES.min(next.len());
         self.next_norms_squared = [sum_of_squares(&next[..low]), sum_of_squares(&next[low..])];
+        self.next_norms_squared[0] + self.next_norms_squared[1]
+    }
+
+    fn norm_squared(&self, field: &[f64]) -> f64 {
+        sum_of_squares(field)
+    }
+
+    /// Φᵀ M_ff Φ = I and Φᵀ K_ff Φ = Ω², so ‖q‖ is the M-norm of w and wᵀKw ≤ ω²_max‖q‖².
+    fn magnitude_scale(&self, time_step: f64) -> f64 {
+        let data = &*self.data;
+        let omega_squared_max = data.omega_squared.iter().fold(0.0, |a: f64, &b| a.max(b));
+        let norm = |v: &[f64]| sum_of_squares(v).sqrt();
+        let output_norm = data.outputs.iter().map(|r| norm(r)).fold(0.0, f64::max);
+        [
+            4.0 / (time_step * time_step),
+            4.0 * norm(&data.translation_mass) / (time_step * time_step),
+            2.0 * norm(&data.translation_mass) / time_step,
+            omega_squared_max,
+            norm(&data.load),
+            output_norm,
+        ]
+        .into_iter()
+        .fold(1.0, f64::max)
     }
 
     fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool {
@@ -244,10 +268,7 @@ impl LinearBackend for ModalBackend {
     }
 
     fn output_values(&self, field: &[f64]) -> [f64; 3] {
-        self.data
-            .outputs
-            .each_ref()
-            .map(|row| row.iter().zip(field).map(|(a, b)| a * b).sum())
+        self.data.outputs.each_ref().map(|row| dot(row, field))
     }
 }
 
@@ -274,17 +295,4 @@ fn constrained_values(data: &ModalData, q: &[f64], out: &mut [f64]) {
         1.0,
         Par::Seq,
     );
-}
-
-/// Σ x_k², with four partial sums so that the additions do not wait on each other.
-fn sum_of_squares(x: &[f64]) -> f64 {
-    let mut partial = [0.0; 4];
-    let chunks = x.chunks_exact(4);
-    let rest: f64 = chunks.remainder().iter().map(|v| v * v).sum();
-    for chunk in chunks {
-        for (p, v) in partial.iter_mut().zip(chunk) {
-            *p += v * v;
-        }
-    }
-    partial.iter().sum::<f64>() + rest
 }

@@ -1,4 +1,6 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests. Each test crate uses some of them only, hence the
+//! allowance of dead code.
+#![allow(dead_code)]
 
 use plate_impact::element::ElementKind;
 use plate_impact::scene::{QpChoice, Scene};
