@@ -43,8 +43,10 @@ pub trait LinearBackend: Send {
     fn dimension(&self) -> usize;
     /// Writes the unconstrained prediction A⁻¹b into `next`, b being the right-hand side of the
     /// step from `previous` (w_{n−1}) and `current` (w_n), see
-    /// [`FreeSystem::right_hand_side`](super::FreeSystem::right_hand_side). Returns the squared
-    /// norm ‖x‖² of the prediction (as [`LinearBackend::norm_squared`]), from a pass the backend
+    /// [`FreeSystem::right_hand_side`](super::FreeSystem::right_hand_side); for the start step
+    /// (`forcing.start`) A is the undamped A₀, and so is the system that
+    /// [`LinearBackend::delassus_column`] and [`LinearBackend::correct`] then use. Returns the
+    /// squared norm ‖x‖² of the prediction (as [`LinearBackend::norm_squared`]), from a pass the backend
     /// makes anyway: it is finite exactly when every entry is and none is beyond ~1e154.
     fn predict(
         &mut self,
@@ -76,6 +78,8 @@ pub trait LinearBackend: Send {
     fn field_of_free_dofs(&self, w: &[f64], field: &mut [f64]);
     /// Energy pieces of two consecutive fields.
     fn energy(&self, previous: &[f64], current: &[f64], time_step: f64) -> EnergyPieces;
+    /// (x − y)ᵀ C (x − y) for the Rayleigh damping matrix C of the free dofs.
+    fn damping_quadratic(&self, x: &[f64], y: &[f64]) -> f64;
     /// A field's relative displacement w at the three output points.
     fn output_values(&self, field: &[f64]) -> [f64; 3];
 }

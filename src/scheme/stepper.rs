@@ -44,6 +44,9 @@ pub struct StepReport {
     /// active-set method did not converge and clarabel solved the step instead, or clarabel's
     /// answer could not be polished to a KKT-certified solution.
     pub warning: Option<String>,
+    /// The energy the damping removed in this step (J): Δwᵀ C Δw / (4Δt) with Δw = w_{n+1} − w_{n−1}
+    /// and C = αM + βK; 0 without damping and at the start step, which has no damping term.
+    pub damping_loss: f64,
 }
 
 /// Relative tolerance of the obstacle bounds when a state is restored or an obstacle moved:
@@ -420,6 +423,16 @@ impl Stepper {
                 return Err(self.overflow("the energy or an output", t_next, base_next));
             }
         }
+        let damping_loss = if start || self.free.damping.is_zero() {
+            0.0
+        } else {
+            self.backend
+                .damping_quadratic(&self.levels.next, &self.levels.previous)
+                / (4.0 * dt)
+        };
+        if !damping_loss.is_finite() {
+            return Err(self.overflow("the energy removed by damping", t_next, base_next));
+        }
         // The step succeeded: from here on nothing fails.
         let active = match &multipliers {
             Some(mu) => {
@@ -453,6 +466,7 @@ impl Stepper {
             path,
             bounds_evaluated: !proven,
             warning,
+            damping_loss,
         })
     }
 
@@ -564,7 +578,7 @@ impl Stepper {
             &mut b,
         );
         let (solution, warning) = solve_reference(&BoxQp {
-            a: free.system.as_ref(),
+            a: free.system_matrix(forcing.start).as_ref(),
             b: &b,
             constrained: &free.constrained,
             lower: &self.lower,
