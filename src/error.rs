@@ -26,7 +26,17 @@ pub enum Error {
         /// Upper obstacle level, if enabled (m).
         upper: Option<f64>,
     },
-    /// A linear algebra step failed (a matrix that should be positive definite is not, numerically).
+    /// A saved state cannot be restored: one of its fields is malformed or physically impossible.
+    InvalidState {
+        /// The field, e.g. `current[12]` or `base[1]`.
+        field: String,
+        /// The rejected value, as text.
+        value: String,
+        /// What the field must satisfy, e.g. `must be finite`.
+        limit: String,
+    },
+    /// A linear algebra step failed (a matrix that should be positive definite is not, numerically),
+    /// or a step's result overflowed.
     Numerical(String),
     /// The contact problem of a step could not be solved to the required accuracy.
     ContactSolver(String),
@@ -37,6 +47,17 @@ impl Error {
     pub fn invalid(name: &str, value: impl fmt::Display, limit: &str) -> Error {
         Error::InvalidParameter {
             name: name.to_string(),
+            value: value.to_string(),
+            limit: limit.to_string(),
+        }
+    }
+}
+
+impl Error {
+    /// Shorthand for [`Error::InvalidState`].
+    pub fn invalid_state(field: &str, value: impl fmt::Display, limit: &str) -> Error {
+        Error::InvalidState {
+            field: field.to_string(),
             value: value.to_string(),
             limit: limit.to_string(),
         }
@@ -64,6 +85,14 @@ impl fmt::Display for Error {
                     level(upper)
                 )
             }
+            Error::InvalidState {
+                field,
+                value,
+                limit,
+            } => write!(
+                f,
+                "saved state field {field} = {value} is invalid: it {limit}"
+            ),
             Error::Numerical(msg) => write!(f, "numerical failure: {msg}"),
             Error::ContactSolver(msg) => write!(f, "contact solver failure: {msg}"),
         }

@@ -131,6 +131,36 @@ pub struct Base {
     pub frequency: f64,
 }
 
+/// Rayleigh damping C = αM + βK on the motion relative to the base, w = u − z𝟙 (a plate moving
+/// rigidly with its base is not damped). Mode k of the clamped plate gets the damping ratio
+/// ζ_k = α/(2ω_k) + βω_k/2. Both default to 0 (the paper's undamped plate).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Damping {
+    /// α (1/s), ≥ 0.
+    pub mass_proportional: f64,
+    /// β (s), ≥ 0.
+    pub stiffness_proportional: f64,
+}
+
+impl Damping {
+    /// Whether C = 0.
+    pub fn is_zero(&self) -> bool {
+        self.mass_proportional == 0.0 && self.stiffness_proportional == 0.0
+    }
+
+    /// The modal damping coefficient c_k = α + βω_k² (1/s) of a mode with ω_k² = `omega_squared`:
+    /// in the M-orthonormal eigenbasis C is diagonal with these entries.
+    pub fn modal_coefficient(&self, omega_squared: f64) -> f64 {
+        self.mass_proportional + self.stiffness_proportional * omega_squared
+    }
+
+    /// ζ = α/(2ω) + βω/2 of a mode of angular frequency ω (rad/s).
+    pub fn ratio(&self, omega: f64) -> f64 {
+        self.mass_proportional / (2.0 * omega) + 0.5 * self.stiffness_proportional * omega
+    }
+}
+
 /// A full parameter set.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -151,6 +181,9 @@ pub struct Scene {
     pub initial: Initial,
     /// Built-in base motion.
     pub base: Base,
+    /// Rayleigh damping; absent from a scene file means none.
+    #[serde(default)]
+    pub damping: Damping,
     /// Horizon (s) used by examples and as the FMU's default stop time.
     pub stop_time: f64,
 }
@@ -195,6 +228,7 @@ impl Default for Scene {
                 amplitude: 0.0,
                 frequency: 10.0,
             },
+            damping: Damping::default(),
             stop_time: 1.0,
         }
     }
@@ -395,6 +429,17 @@ impl Scene {
                 ),
             ));
         }
+        for (name, v) in [
+            ("damping.mass_proportional", self.damping.mass_proportional),
+            (
+                "damping.stiffness_proportional",
+                self.damping.stiffness_proportional,
+            ),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(name, v, "must be finite and >= 0"));
+            }
+        }
         positive("stop_time", self.stop_time)?;
         Ok(())
     }
@@ -428,6 +473,27 @@ mod tests {
             s.material.poisson_ratio, 0.3,
             "a rejected value leaves the scene unchanged"
         );
+    }
+
+    #[test]
+    fn damping_defaults_to_none_and_refuses_negative_values_by_name() {
+        let s = Scene::named("forced").unwrap();
+        assert!(
+            s.damping.is_zero(),
+            "scene files without damping parse as undamped"
+        );
+        let mut s = Scene::default();
+        s.set("damping.mass_proportional", "3.5").unwrap();
+        s.set("damping.stiffness_proportional", "1e-5").unwrap();
+        assert_eq!(s.damping.mass_proportional, 3.5);
+        for (name, value) in [
+            ("damping.mass_proportional", "-1"),
+            ("damping.stiffness_proportional", "-1e-9"),
+        ] {
+            let err = s.set(name, value).unwrap_err();
+            assert!(err.to_string().contains(name), "{err}");
+        }
+        assert_eq!(s.damping.stiffness_proportional, 1e-5);
     }
 
     #[test]

@@ -219,12 +219,7 @@ fn modal_and_sparse_backends_agree_on_a_contact_scene() {
             let report = modal.step(z).unwrap();
             sparse.step(z).unwrap();
             screened += usize::from(!report.bounds_evaluated);
-            let diff = modal
-                .constrained_displacements()
-                .iter()
-                .zip(sparse.constrained_displacements())
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let diff = common::largest_vertex_difference(&modal, &sparse);
             worst = worst.max(diff);
         }
         println!("{element:?}: {screened} of 4000 steps screened, worst difference {worst:.2e} m");

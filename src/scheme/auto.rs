@@ -1,7 +1,7 @@
 //! The choice of the linear backend for a scene, and its construction.
 
 use super::backend::LinearBackend;
-use super::modal::{ModalBackend, ModalData};
+use super::modal::{FreeDofData, ModalBackend, ModalData};
 use super::sparse::{SparseBackend, SparseData};
 use super::FreeSystem;
 use crate::error::Error;
@@ -36,11 +36,14 @@ pub fn build(
             let data = ModalData::new(
                 plate.modes()?,
                 scene.solver.time_step,
-                &free.constrained,
-                &free.load,
-                &free.translation_mass,
-                free.outputs.clone(),
-                free.mass.to_dense(),
+                FreeDofData {
+                    constrained: &free.constrained,
+                    load: &free.load,
+                    translation_mass: &free.translation_mass,
+                    outputs: &free.outputs,
+                    mass: free.mass.to_dense(),
+                    damping: &free.damping,
+                },
             );
             Box::new(ModalBackend::new(Arc::new(data)))
         }

@@ -43,14 +43,25 @@ pub trait LinearBackend: Send {
     fn dimension(&self) -> usize;
     /// Writes the unconstrained prediction A⁻¹b into `next`, b being the right-hand side of the
     /// step from `previous` (w_{n−1}) and `current` (w_n), see
-    /// [`FreeSystem::right_hand_side`](super::FreeSystem::right_hand_side).
+    /// [`FreeSystem::right_hand_side`](super::FreeSystem::right_hand_side); for the start step
+    /// (`forcing.start`) A is the undamped A₀, and so is the system that
+    /// [`LinearBackend::delassus_column`] and [`LinearBackend::correct`] then use. Returns the
+    /// squared norm ‖x‖² of the prediction (as [`LinearBackend::norm_squared`]), from a pass the backend
+    /// makes anyway: it is finite exactly when every entry is and none is beyond ~1e154.
     fn predict(
         &mut self,
         previous: &[f64],
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    );
+    ) -> f64;
+    /// The squared Euclidean norm ‖x‖² of a field in the backend's coordinates.
+    fn norm_squared(&self, field: &[f64]) -> f64;
+    /// A constant c ≥ 1 such that, for fields x, y, z of squared norm at most N ≥ 1 and
+    /// ẇ = (x − y)/Δt, each of ẇᵀMẇ, |m₁ᵀẇ|, |m₁ᵀ(x − 2y + z)|/Δt², xᵀKx, |fᵀx| and the
+    /// output values of x is at most c·N. The stepper uses it to prove cheaply that the outputs of
+    /// a step cannot overflow.
+    fn magnitude_scale(&self, time_step: f64) -> f64;
     /// Whether the last prediction `next` provably satisfies lower ≤ w ≤ upper at every
     /// constrained vertex, without computing those values exactly (a cheap screening test).
     /// `false` means "not proven", not "violated": the caller then evaluates the values.
@@ -67,6 +78,8 @@ pub trait LinearBackend: Send {
     fn field_of_free_dofs(&self, w: &[f64], field: &mut [f64]);
     /// Energy pieces of two consecutive fields.
     fn energy(&self, previous: &[f64], current: &[f64], time_step: f64) -> EnergyPieces;
+    /// (x − y)ᵀ C (x − y) for the Rayleigh damping matrix C of the free dofs.
+    fn damping_quadratic(&self, x: &[f64], y: &[f64]) -> f64;
     /// A field's relative displacement w at the three output points.
     fn output_values(&self, field: &[f64]) -> [f64; 3];
 }

@@ -1,9 +1,16 @@
 //! The plate restricted to its free dofs (clamp dofs removed) for one time step Δt: the matrices
 //! and vectors every linear backend and the clarabel reference path start from.
+//!
+//! With Rayleigh damping C = αM + βK on the relative motion w, the scheme gains the centred term
+//! C(w_{n+1} − w_{n−1})/(2Δt): the QP's matrix becomes A = M + ½Δt²K + ½ΔtC (still symmetric
+//! positive definite, one strictly convex box QP per step) and w_{n−1} enters the right-hand side
+//! through A − ΔtC. The start step, from rest (v_0 = 0), has no damping term: its matrix stays
+//! A₀ = M + ½Δt²K.
 
 use super::backend::StepForcing;
+use super::vectors::dot;
 use crate::modes::sparse_restriction;
-use crate::scene::Scene;
+use crate::scene::{Damping, Scene};
 use crate::system::PlateSystem;
 use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::SparseColMat;
@@ -16,8 +23,15 @@ pub struct FreeSystem {
     pub mass: SparseColMat<usize, f64>,
     /// K_ff.
     pub stiffness: SparseColMat<usize, f64>,
-    /// A = M_ff + ½Δt²K_ff.
+    /// A = M_ff + ½Δt²K_ff + ½ΔtC_ff, C = αM + βK the Rayleigh damping (zero by default).
     pub system: SparseColMat<usize, f64>,
+    /// A − ΔtC, the matrix of w_{n−1} in the right-hand side; `None` without damping (then A).
+    lagged_system: Option<SparseColMat<usize, f64>>,
+    /// A₀ = M_ff + ½Δt²K_ff, the matrix of the start step, which has no damping term (v_0 = 0);
+    /// `None` without damping (then A).
+    start_system: Option<SparseColMat<usize, f64>>,
+    /// The scene's damping.
+    pub damping: Damping,
     /// f_f for a 1 Pa pressure.
     pub load: Vec<f64>,
     /// m₁ = (M𝟙)_f: the mass matrix times the rigid translation, on the free dofs.
@@ -38,8 +52,21 @@ impl FreeSystem {
         let keep = &plate.free;
         let mass = sparse_restriction(&plate.mass, keep);
         let stiffness = sparse_restriction(&plate.stiffness, keep);
-        let half_dt2 = 0.5 * scene.solver.time_step * scene.solver.time_step;
-        let system = &mass + &(&stiffness * faer::Scale(half_dt2));
+        let dt = scene.solver.time_step;
+        let damping = scene.damping.clone();
+        let (alpha, beta) = (damping.mass_proportional, damping.stiffness_proportional);
+        // a·M + b·K; for α = β = 0 the system is M·1 + K·½Δt², bit for bit M + ½Δt²K.
+        let combine = |a: f64, b: f64| &(&mass * faer::Scale(a)) + &(&stiffness * faer::Scale(b));
+        let half_dt2 = 0.5 * dt * dt;
+        let system = combine(1.0 + 0.5 * dt * alpha, half_dt2 + 0.5 * dt * beta);
+        let (lagged_system, start_system) = if damping.is_zero() {
+            (None, None)
+        } else {
+            (
+                Some(combine(1.0 - 0.5 * dt * alpha, half_dt2 - 0.5 * dt * beta)),
+                Some(combine(1.0, half_dt2)),
+            )
+        };
         let mut m_translation = vec![0.0; plate.disc.dof_count];
         multiply_add(&plate.mass, &plate.translation, 1.0, &mut m_translation);
         let has_obstacle = scene.obstacle.lower_enabled || scene.obstacle.upper_enabled;
@@ -47,6 +74,9 @@ impl FreeSystem {
             mass,
             stiffness,
             system,
+            lagged_system,
+            start_system,
+            damping,
             load: keep.iter().map(|&d| plate.unit_load[d]).collect(),
             translation_mass: keep.iter().map(|&d| m_translation[d]).collect(),
             constrained: if has_obstacle {
@@ -68,9 +98,19 @@ impl FreeSystem {
         }
     }
 
+    /// The matrix of the step's QP: A, or A₀ for the start step.
+    pub fn system_matrix(&self, start: bool) -> &SparseColMat<usize, f64> {
+        match (&self.start_system, start) {
+            (Some(start_system), true) => start_system,
+            _ => &self.system,
+        }
+    }
+
     /// The right-hand side b of a step over the free dofs, from w_{n−1} and w_n:
-    /// b = 2 M w_n − A w_{n−1} + r (start step: b = M w_0 + r), with r = load·f + base·m₁ the
-    /// forcing of [`StepForcing`].
+    /// b = 2 M w_n − (A − ΔtC) w_{n−1} + r (start step: b = M w_0 + r), with
+    /// r = load·f + translation·m₁ the forcing of [`StepForcing`]. With A = M + ½Δt²K + ½ΔtC this
+    /// is the scheme M(w_{n+1} − 2w_n + w_{n−1})/Δt² + K(w_{n+1} + w_{n−1})/2
+    /// + C(w_{n+1} − w_{n−1})/(2Δt) = r/Δt² (+ the contact term).
     pub fn right_hand_side(
         &self,
         forcing: &StepForcing,
@@ -85,7 +125,8 @@ impl FreeSystem {
             multiply_add(&self.mass, current, 1.0, b);
         } else {
             multiply_add(&self.mass, current, 2.0, b);
-            multiply_add(&self.system, previous, -1.0, b);
+            let lagged = self.lagged_system.as_ref().unwrap_or(&self.system);
+            multiply_add(lagged, previous, -1.0, b);
         }
     }
 }
@@ -107,9 +148,4 @@ pub(crate) fn quadratic(a: &SparseColMat<usize, f64>, x: &[f64]) -> f64 {
     let mut ax = vec![0.0; x.len()];
     multiply_add(a, x, 1.0, &mut ax);
     dot(&ax, x)
-}
-
-/// aᵀb, summed in index order.
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }

@@ -3,16 +3,19 @@
 //!
 //! Unknowns are split as u = z(t)·𝟙 + w, with 𝟙 the rigid translation (value dofs 1) and w the
 //! displacement relative to the base, whose clamp dofs are all zero. Because K𝟙 = 0, the scheme for
-//! the free dofs of w reads, with A = M_ff + ½Δt²K_ff and m₁ = (M𝟙)_f,
+//! the free dofs of w reads, with A = M_ff + ½Δt²K_ff + ½ΔtC_ff (C = αM + βK the Rayleigh damping
+//! of the relative motion, zero by default) and m₁ = (M𝟙)_f,
 //!
-//!   A w_{n+1} = 2 M w_n − A w_{n−1} + ½Δt²(p_{n+1} + p_{n−1}) f − m₁ (z_{n+1} − 2z_n + z_{n−1}) + Bᵀμ,
+//!   A w_{n+1} = 2 M w_n − (A − ΔtC) w_{n−1} + ½Δt²(p_{n+1} + p_{n−1}) f
+//!               − m₁ (z_{n+1} − 2z_n + z_{n−1}) + Bᵀμ,
 //!
-//! which is the scheme for u exactly (up to the round-off of K𝟙), and the start step
-//! A w_1 = M w_0 + ¼Δt²(p_1 + p_0) f − m₁ (z_1 − z_0) + Bᵀμ (v_0 = 0, F̄_0 read as
-//! (F_1 + F_0)/2). The obstacle bounds on u become g − z_{n+1} on w; with restitution e they are
-//! imposed on (u_{n+1} + e u_{n−1})/(1 + e), i.e. on u_{n+1} ∈ [(1+e)g1 − e u_{n−1},
-//! (1+e)g2 − e u_{n−1}] (Paoli–Schatzman), still a box. μ is the QP multiplier: the contact force
-//! at a vertex is μ/Δt² (N).
+//! which is the scheme for u exactly (up to the round-off of K𝟙), and the start step, undamped
+//! because v_0 = 0, A₀ w_1 = M w_0 + ¼Δt²(p_1 + p_0) f − m₁ (z_1 − z_0) + Bᵀμ with
+//! A₀ = M_ff + ½Δt²K_ff (F̄_0 read as (F_1 + F_0)/2). The obstacle bounds on u become g − z_{n+1}
+//! on w; with restitution e they are imposed on (u_{n+1} + e u_{n−1})/(1 + e), i.e. on
+//! u_{n+1} ∈ [(1+e)g1 − e u_{n−1}, (1+e)g2 − e u_{n−1}] (Paoli–Schatzman), still a box. μ is the
+//! QP multiplier: the contact force at a vertex is μ/Δt² (N), 2μ/Δt² after the start step (its
+//! equation is scaled by Δt²/2).
 //!
 //! Layout: [`Stepper`] (`stepper.rs`) owns the three time levels and runs the scheme; the linear
 //! part runs behind the narrow [`LinearBackend`] trait (`backend.rs`) in one of two backends,
@@ -28,13 +31,18 @@ mod free_system;
 pub mod modal;
 mod outputs;
 mod preload;
+mod reference;
 pub mod sparse;
 mod state;
 mod stepper;
+mod vectors;
 
 pub use auto::MODAL_AUTO_LIMIT;
 pub use backend::{EnergyPieces, LinearBackend, StepForcing};
 pub use free_system::FreeSystem;
 pub use outputs::Outputs;
 pub use state::State;
-pub use stepper::{StepPath, StepReport, Stepper};
+pub use state::MAX_STEP_INDEX;
+pub use stepper::{
+    StepPath, StepReport, Stepper, RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE,
+};

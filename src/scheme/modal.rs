@@ -1,11 +1,13 @@
 //! The contact-free part of the scheme in the M-orthonormal eigenbasis of the clamped plate.
 //!
-//! With w_f = Φ q, Φᵀ M_ff Φ = I and Φᵀ K_ff Φ = Ω², the β = ½ scheme (docs/scheme.md) decouples into one
-//! scalar recurrence per mode k, d_k = 1 + ½Δt²ω_k²:
-//!   d_k q_{n+1} = 2 q_n − d_k q_{n−1} + (Φᵀ r)_k   (start step: d_k q_1 = q_0 + (Φᵀ r)_k),
-//! where r is the free-dof forcing of the step. All modes are kept: this is the same scheme, not a
-//! model reduction. A contact-free step costs O(n) plus the bound check y = C q with C = BΦ
-//! (m × n dense), and the Delassus operator W = B A⁻¹ Bᵀ = C D⁻¹ Cᵀ is precomputed.
+//! With w_f = Φ q, Φᵀ M_ff Φ = I, Φᵀ K_ff Φ = Ω² and, for Rayleigh damping C = αM + βK,
+//! Φᵀ C_ff Φ = diag(c_k) with c_k = α + βω_k², the β = ½ scheme (docs/scheme.md) decouples into
+//! one scalar recurrence per mode k, with d_k = 1 + ½Δt²ω_k² + ½Δt c_k:
+//!   d_k q_{n+1} = 2 q_n − (d_k − Δt c_k) q_{n−1} + (Φᵀ r)_k
+//! (start step, undamped: (1 + ½Δt²ω_k²) q_1 = q_0 + (Φᵀ r)_k), where r is the free-dof forcing of
+//! the step. All modes are kept: this is the same scheme, not a model reduction. A contact-free
+//! step costs O(n) plus the bound check y = C q with C = BΦ (m × n dense), and the Delassus
+//! operator W = B A⁻¹ Bᵀ = C D⁻¹ Cᵀ is precomputed.
 //!
 //! The bound check is screened: with the lowest [`SCREENING_MODES`] modes L and the rest H,
 //! y_i = (C_L q_L)_i + (C_H q_H)_i and |(C_H q_H)_i| ≤ ‖(C_H)_i‖ ‖q_H‖ (Cauchy–Schwarz). When every
@@ -14,26 +16,77 @@
 //! an obstacle pay for the full product.
 
 use super::backend::{EnergyPieces, LinearBackend, StepForcing};
+use super::vectors::{dot, sum_of_squares};
 use crate::modes::Modes;
+use crate::scene::Damping;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, Mat, Par};
 use std::sync::Arc;
 
-/// Immutable data shared by every modal stepper of one scene.
+/// The diagonal system of one kind of step in modal coordinates: D = diag(d_k).
 #[derive(Debug)]
-pub struct ModalData {
-    /// 1/d_k with d_k = 1 + ½Δt²ω_k² (a product per mode and step instead of a division).
+struct ModalSystem {
+    /// 1/d_k (a product per mode and step instead of a division).
     inverse_d: Vec<f64>,
-    /// ω_k².
-    omega_squared: Vec<f64>,
-    /// Φ (free dofs × modes), to map back to physical dofs.
-    shapes: Mat<f64>,
-    /// C = BΦ: the constrained rows of Φ (m × n).
-    c: Mat<f64>,
+    /// (d_k − Δt c_k)/d_k, the weight of q_{n−1} after dividing by d_k: exactly 1 without damping.
+    lagged: Vec<f64>,
     /// Cᵀ scaled by D⁻¹ row-wise, stored as n × m: column i is D⁻¹ Cᵀ e_i = Φᵀ A⁻¹ Bᵀ e_i.
     c_t_scaled: Mat<f64>,
     /// W = C D⁻¹ Cᵀ (m × m).
     delassus: Mat<f64>,
+}
+
+impl ModalSystem {
+    /// The system with d_k = 1 + ½Δt²ω_k² + ½Δt c_k and the constrained rows `c` of Φ.
+    fn new(omega_squared: &[f64], damping: &Damping, time_step: f64, c: &Mat<f64>) -> ModalSystem {
+        let (m, n) = (c.nrows(), c.ncols());
+        let coefficient: Vec<f64> = omega_squared
+            .iter()
+            .map(|&w2| damping.modal_coefficient(w2))
+            .collect();
+        let d: Vec<f64> = omega_squared
+            .iter()
+            .zip(&coefficient)
+            .map(|(&w2, &ck)| 1.0 + 0.5 * time_step * time_step * w2 + 0.5 * time_step * ck)
+            .collect();
+        let c_t_scaled = Mat::from_fn(n, m, |k, i| c[(i, k)] / d[k]);
+        let mut delassus = Mat::zeros(m, m);
+        matmul(
+            delassus.as_mut(),
+            Accum::Replace,
+            c.as_ref(),
+            c_t_scaled.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        ModalSystem {
+            inverse_d: d.iter().map(|d| 1.0 / d).collect(),
+            lagged: d
+                .iter()
+                .zip(&coefficient)
+                .map(|(&d, &ck)| (d - time_step * ck) / d)
+                .collect(),
+            c_t_scaled,
+            delassus,
+        }
+    }
+}
+
+/// Immutable data shared by every modal stepper of one scene.
+#[derive(Debug)]
+pub struct ModalData {
+    /// The system of every step but the start.
+    step: ModalSystem,
+    /// The start step's undamped system, when damping makes it differ from `step`.
+    start: Option<ModalSystem>,
+    /// ω_k².
+    omega_squared: Vec<f64>,
+    /// c_k = α + βω_k² (1/s), the modal damping coefficients.
+    damping: Vec<f64>,
+    /// Φ (free dofs × modes), to map back to physical dofs.
+    shapes: Mat<f64>,
+    /// C = BΦ: the constrained rows of Φ (m × n).
+    c: Mat<f64>,
     /// ‖(C_H)_i‖₂ per constrained vertex: the screening remainder's weights.
     high_row_norms: Vec<f64>,
     /// ‖C_i‖₂ per constrained vertex: scales the round-off margin of the screening.
@@ -47,36 +100,32 @@ pub struct ModalData {
     mass_free: Mat<f64>,
 }
 
+/// The free-dof data of the plate that the modal backend projects onto its modes.
+pub struct FreeDofData<'a> {
+    /// Free-dof indices of the constrained vertex values.
+    pub constrained: &'a [usize],
+    /// f_f for a 1 Pa pressure.
+    pub load: &'a [f64],
+    /// m₁ = (M𝟙)_f.
+    pub translation_mass: &'a [f64],
+    /// The output functionals over the free dofs.
+    pub outputs: &'a [Vec<f64>; 3],
+    /// M_ff, dense.
+    pub mass: Mat<f64>,
+    /// The Rayleigh damping.
+    pub damping: &'a Damping,
+}
+
 impl ModalData {
-    /// Precomputes the modal data from the eigenpairs and the free-dof vectors of the system.
-    pub fn new(
-        modes: Modes,
-        time_step: f64,
-        constrained: &[usize],
-        load_free: &[f64],
-        translation_mass_free: &[f64],
-        outputs_free: [Vec<f64>; 3],
-        mass_free: Mat<f64>,
-    ) -> ModalData {
+    /// Precomputes the modal data from the eigenpairs and the free-dof data of the system.
+    pub fn new(modes: Modes, time_step: f64, free: FreeDofData<'_>) -> ModalData {
         let n = modes.omega_squared.len();
-        let m = constrained.len();
-        let d: Vec<f64> = modes
-            .omega_squared
-            .iter()
-            .map(|&w2| 1.0 + 0.5 * time_step * time_step * w2)
-            .collect();
+        let m = free.constrained.len();
         let shapes = modes.shapes;
-        let c = Mat::from_fn(m, n, |i, k| shapes[(constrained[i], k)]);
-        let c_t_scaled = Mat::from_fn(n, m, |k, i| c[(i, k)] / d[k]);
-        let mut delassus = Mat::zeros(m, m);
-        matmul(
-            delassus.as_mut(),
-            Accum::Replace,
-            c.as_ref(),
-            c_t_scaled.as_ref(),
-            1.0,
-            Par::Seq,
-        );
+        let c = Mat::from_fn(m, n, |i, k| shapes[(free.constrained[i], k)]);
+        let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c);
+        let start = (!free.damping.is_zero())
+            .then(|| ModalSystem::new(&modes.omega_squared, &Damping::default(), time_step, &c));
         let project = |v: &[f64]| -> Vec<f64> {
             (0..n)
                 .map(|k| (0..v.len()).map(|i| shapes[(i, k)] * v[i]).sum())
@@ -87,22 +136,34 @@ impl ModalData {
             |i: usize, from: usize| (from..n).map(|k| c[(i, k)] * c[(i, k)]).sum::<f64>().sqrt();
         let high_row_norms = (0..m).map(|i| row_norm(i, low)).collect();
         let row_norms = (0..m).map(|i| row_norm(i, 0)).collect();
-        let load = project(load_free);
-        let translation_mass = project(translation_mass_free);
-        let outputs = outputs_free.map(|row| project(&row));
+        let load = project(free.load);
+        let translation_mass = project(free.translation_mass);
+        let outputs = free.outputs.each_ref().map(|row| project(row));
         ModalData {
-            inverse_d: d.iter().map(|d| 1.0 / d).collect(),
+            step,
+            start,
+            damping: modes
+                .omega_squared
+                .iter()
+                .map(|&w2| free.damping.modal_coefficient(w2))
+                .collect(),
             omega_squared: modes.omega_squared,
             shapes,
             c,
-            c_t_scaled,
-            delassus,
             high_row_norms,
             row_norms,
             load,
             translation_mass,
             outputs,
-            mass_free,
+            mass_free: free.mass,
+        }
+    }
+
+    /// The system of the start step or of the others.
+    fn system(&self, start: bool) -> &ModalSystem {
+        match (&self.start, start) {
+            (Some(system), true) => system,
+            _ => &self.step,
         }
     }
 }
@@ -118,6 +179,9 @@ pub struct ModalBackend {
     low_values: Vec<f64>,
     /// ‖q_L‖², ‖q_H‖² of the last prediction, from [`LinearBackend::predict`].
     next_norms_squared: [f64; 2],
+    /// Whether the last prediction was a start step's (its Delassus operator and correction
+    /// are those of the undamped start system).
+    start: bool,
 }
 
 impl ModalBackend {
@@ -126,6 +190,7 @@ impl ModalBackend {
         ModalBackend {
             low_values: vec![0.0; data.c.nrows()],
             next_norms_squared: [f64::INFINITY; 2],
+            start: false,
             data,
         }
     }
@@ -133,7 +198,7 @@ impl ModalBackend {
 
 impl LinearBackend for ModalBackend {
     fn dimension(&self) -> usize {
-        self.data.inverse_d.len()
+        self.data.omega_squared.len()
     }
 
     fn predict(
@@ -142,27 +207,52 @@ impl LinearBackend for ModalBackend {
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    ) {
+    ) -> f64 {
         let data = &*self.data;
+        self.start = forcing.start;
+        let system = data.system(forcing.start);
         let (load, translation) = (forcing.load, forcing.translation);
         let (current_weight, previous_weight) = if forcing.start {
             (1.0, 0.0)
         } else {
             (2.0, 1.0)
         };
-        for ((((q, &c), &p), &inverse_d), (&f, &m)) in next
+        for ((((q, &c), &p), (&inverse_d, &lagged)), (&f, &m)) in next
             .iter_mut()
             .zip(current)
             .zip(previous)
-            .zip(&data.inverse_d)
+            .zip(system.inverse_d.iter().zip(&system.lagged))
             .zip(data.load.iter().zip(&data.translation_mass))
         {
-            *q =
-                (current_weight * c + load * f + translation * m) * inverse_d - previous_weight * p;
+            *q = (current_weight * c + load * f + translation * m) * inverse_d
+                - previous_weight * lagged * p;
         }
         // The squared norms of q_{n+1} over the low and the high modes, for the screening.
         let low = SCREENING_MODES.min(next.len());
         self.next_norms_squared = [sum_of_squares(&next[..low]), sum_of_squares(&next[low..])];
+        self.next_norms_squared[0] + self.next_norms_squared[1]
+    }
+
+    fn norm_squared(&self, field: &[f64]) -> f64 {
+        sum_of_squares(field)
+    }
+
+    /// Φᵀ M_ff Φ = I and Φᵀ K_ff Φ = Ω², so ‖q‖ is the M-norm of w and wᵀKw ≤ ω²_max‖q‖².
+    fn magnitude_scale(&self, time_step: f64) -> f64 {
+        let data = &*self.data;
+        let omega_squared_max = data.omega_squared.iter().fold(0.0, |a: f64, &b| a.max(b));
+        let norm = |v: &[f64]| sum_of_squares(v).sqrt();
+        let output_norm = data.outputs.iter().map(|r| norm(r)).fold(0.0, f64::max);
+        [
+            4.0 / (time_step * time_step),
+            4.0 * norm(&data.translation_mass) / (time_step * time_step),
+            2.0 * norm(&data.translation_mass) / time_step,
+            omega_squared_max,
+            norm(&data.load),
+            output_norm,
+        ]
+        .into_iter()
+        .fold(1.0, f64::max)
     }
 
     fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool {
@@ -191,6 +281,7 @@ impl LinearBackend for ModalBackend {
 
     fn delassus_column(&mut self, j: usize) -> &[f64] {
         self.data
+            .system(self.start)
             .delassus
             .col(j)
             .try_as_col_major()
@@ -203,6 +294,7 @@ impl LinearBackend for ModalBackend {
             let mu = multipliers[i];
             let column = self
                 .data
+                .system(self.start)
                 .c_t_scaled
                 .col(i)
                 .try_as_col_major()
@@ -243,11 +335,18 @@ impl LinearBackend for ModalBackend {
         pieces
     }
 
-    fn output_values(&self, field: &[f64]) -> [f64; 3] {
+    /// Σ c_k (x_k − y_k)².
+    fn damping_quadratic(&self, x: &[f64], y: &[f64]) -> f64 {
         self.data
-            .outputs
-            .each_ref()
-            .map(|row| row.iter().zip(field).map(|(a, b)| a * b).sum())
+            .damping
+            .iter()
+            .zip(x.iter().zip(y))
+            .map(|(&c, (a, b))| c * (a - b) * (a - b))
+            .sum()
+    }
+
+    fn output_values(&self, field: &[f64]) -> [f64; 3] {
+        self.data.outputs.each_ref().map(|row| dot(row, field))
     }
 }
 
@@ -274,17 +373,4 @@ fn constrained_values(data: &ModalData, q: &[f64], out: &mut [f64]) {
         1.0,
         Par::Seq,
     );
-}
-
-/// Σ x_k², with four partial sums so that the additions do not wait on each other.
-fn sum_of_squares(x: &[f64]) -> f64 {
-    let mut partial = [0.0; 4];
-    let chunks = x.chunks_exact(4);
-    let rest: f64 = chunks.remainder().iter().map(|v| v * v).sum();
-    for chunk in chunks {
-        for (p, v) in partial.iter_mut().zip(chunk) {
-            *p += v * v;
-        }
-    }
-    partial.iter().sum::<f64>() + rest
 }

@@ -1,23 +1,43 @@
 //! The initial state: static equilibrium under the preload pressure, with contact when it pushes
 //! the plate into an obstacle.
 
+use super::reference::solve_reference;
 use super::FreeSystem;
-use crate::contact::{self, BoxQp};
+use crate::contact::{BoundState, BoxQp};
 use crate::error::Error;
 use crate::scene::Scene;
 
-/// u₀ − z₀𝟙 over the free dofs: the static equilibrium K_ff w = p₀ f under the preload p₀, with the
-/// obstacle bounds g − z₀ when the unconstrained equilibrium violates them (a static contact QP,
-/// solved by clarabel).
+/// The static equilibrium of the preload and its contact.
+#[derive(Clone, Debug)]
+pub struct StaticPreload {
+    /// u₀ − z₀𝟙 over the free dofs.
+    pub displacement: Vec<f64>,
+    /// The contact state of each constrained vertex.
+    pub states: Vec<BoundState>,
+    /// The static contact force λ_i at each constrained vertex (N): K w = p₀ f + Bᵀλ.
+    pub forces: Vec<f64>,
+    /// Set when the contact problem's answer is only clarabel's rough interior-point one.
+    pub warning: Option<String>,
+}
+
+/// The static equilibrium K_ff w = p₀ f + Bᵀλ under the preload p₀, with the obstacle bounds
+/// g − z₀ when the unconstrained equilibrium violates them (a static contact QP solved by clarabel;
+/// its multipliers λ are the static contact forces, in newtons).
 pub fn static_preload(
     scene: &Scene,
     free: &FreeSystem,
     initial_base: f64,
-) -> Result<Vec<f64>, Error> {
+) -> Result<StaticPreload, Error> {
     let p = scene.initial.preload_pressure;
-    let n = free.load.len();
+    let (n, m) = (free.load.len(), free.constrained.len());
+    let without_contact = |displacement| StaticPreload {
+        displacement,
+        states: vec![BoundState::Free; m],
+        forces: vec![0.0; m],
+        warning: None,
+    };
     if p == 0.0 {
-        return Ok(vec![0.0; n]);
+        return Ok(without_contact(vec![0.0; n]));
     }
     let b: Vec<f64> = free.load.iter().map(|f| p * f).collect();
     let factor = free.stiffness.sp_cholesky(faer::Side::Lower).map_err(|e| {
@@ -41,16 +61,20 @@ pub fn static_preload(
         .iter()
         .all(|&i| w[i] >= lower && w[i] <= upper);
     if feasible {
-        return Ok(w);
+        return Ok(without_contact(w));
     }
-    let m = free.constrained.len();
     let (lower, upper) = (vec![lower; m], vec![upper; m]);
-    let solution = contact::clarabel::solve_box_qp(&BoxQp {
+    let (solution, warning) = solve_reference(&BoxQp {
         a: free.stiffness.as_ref(),
         b: &b,
         constrained: &free.constrained,
         lower: &lower,
         upper: &upper,
     })?;
-    Ok(solution.x)
+    Ok(StaticPreload {
+        displacement: solution.x,
+        states: solution.states,
+        forces: solution.lambda,
+        warning,
+    })
 }

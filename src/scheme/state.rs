@@ -1,6 +1,7 @@
 //! The serializable dynamic state of a stepper, for FMU get/set/serialize.
 
 use crate::contact::BoundState;
+use crate::error::Error;
 use crate::scene::{LinearChoice, Scene};
 use serde::{Deserialize, Serialize};
 
@@ -45,5 +46,72 @@ pub(crate) fn state_from_code(code: i8) -> Option<BoundState> {
         0 => Some(BoundState::Free),
         1 => Some(BoundState::AtUpper),
         _ => None,
+    }
+}
+
+/// Largest step index a state may hold: t_n = n·Δt is computed from n as an f64, exact up to 2⁵³.
+pub const MAX_STEP_INDEX: u64 = 1 << 53;
+
+impl State {
+    /// Checks the fields that need no model: every number finite, the step index at most
+    /// [`MAX_STEP_INDEX`], a state at n = 0 at rest (both levels and both base values equal),
+    /// contact codes in range and contact forces of the sign their codes imply (≥ 0 at the lower
+    /// obstacle, ≤ 0 at the upper, 0 at a free vertex) up to `force_tolerance` (N). Returns the
+    /// contact states. Dimensions are the caller's to check first.
+    pub(crate) fn check_fields(&self, force_tolerance: f64) -> Result<Vec<BoundState>, Error> {
+        let finite = |field: &str, values: &[f64]| -> Result<(), Error> {
+            match values.iter().position(|v| !v.is_finite()) {
+                Some(i) => Err(Error::invalid_state(
+                    &format!("{field}[{i}]"),
+                    values[i],
+                    "must be finite",
+                )),
+                None => Ok(()),
+            }
+        };
+        finite("base", &self.base)?;
+        finite("pressure", &self.pressure)?;
+        finite("previous", &self.previous)?;
+        finite("current", &self.current)?;
+        finite("forces", &self.forces)?;
+        if self.step_index > MAX_STEP_INDEX {
+            return Err(Error::invalid_state(
+                "step_index",
+                self.step_index,
+                &format!("must be at most 2^53 = {MAX_STEP_INDEX}"),
+            ));
+        }
+        if self.step_index == 0 && (self.previous != self.current || self.base[0] != self.base[1]) {
+            return Err(Error::invalid_state(
+                "step_index",
+                0,
+                "must belong to a plate at rest: at n = 0 previous must equal current and \
+                 base[0] must equal base[1]",
+            ));
+        }
+        let mut states = Vec::with_capacity(self.active_set.len());
+        for (i, (&code, &force)) in self.active_set.iter().zip(&self.forces).enumerate() {
+            let state = state_from_code(code).ok_or_else(|| {
+                Error::invalid_state(
+                    &format!("active_set[{i}]"),
+                    code,
+                    "must be -1 (at the lower obstacle), 0 (free) or 1 (at the upper obstacle)",
+                )
+            })?;
+            let (consistent, rule) = match state {
+                BoundState::Free => (force.abs() <= force_tolerance, "0 N at a free vertex"),
+                BoundState::AtLower => (force >= -force_tolerance, ">= 0 at the lower obstacle"),
+                BoundState::AtUpper => (force <= force_tolerance, "<= 0 at the upper obstacle"),
+            };
+            if !consistent {
+                return Err(Error::invalid_state(
+                    &format!("forces[{i}]"),
+                    force,
+                    &format!("must be {rule} (active_set[{i}] = {code}), to {force_tolerance:e} N"),
+                ));
+            }
+            states.push(state);
+        }
+        Ok(states)
     }
 }

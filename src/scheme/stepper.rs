@@ -6,9 +6,10 @@ use super::backend::{BackendDelassus, LinearBackend, StepForcing};
 use super::energy::DiscreteEnergy;
 use super::outputs::Outputs;
 use super::preload::static_preload;
-use super::state::{state_code, state_from_code, State};
+use super::reference::solve_reference;
+use super::state::{state_code, State};
 use super::FreeSystem;
-use crate::contact::{self, ActiveSetSolver, BoundState, BoxQp, PdasSettings};
+use crate::contact::{ActiveSetSolver, BoundState, BoxQp, PdasReport, PdasSettings};
 use crate::error::Error;
 use crate::scene::{LinearChoice, QpChoice, Scene};
 use crate::system::PlateSystem;
@@ -29,7 +30,7 @@ pub enum StepPath {
 }
 
 /// What one step did.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct StepReport {
     /// Vertices in contact after the step.
     pub active: usize,
@@ -39,7 +40,29 @@ pub struct StepReport {
     /// test proved the step contact-free (the modal low-mode screening; for the sparse backend that
     /// test is itself exact), or when there is no constraint.
     pub bounds_evaluated: bool,
+    /// Set when the step's result is less exact than the normal path's, saying why: the
+    /// active-set method did not converge and clarabel solved the step instead, or clarabel's
+    /// answer could not be polished to a KKT-certified solution.
+    pub warning: Option<String>,
+    /// The energy the damping removed in this step (J): Δwᵀ C Δw / (4Δt) with Δw = w_{n+1} − w_{n−1}
+    /// and C = αM + βK; 0 without damping and at the start step, which has no damping term.
+    pub damping_loss: f64,
 }
+
+/// Relative tolerance of the obstacle bounds when a state is restored or an obstacle moved:
+/// 1e-6 of the gap (g2 − g1, or |g| with one obstacle). A step satisfies its bounds to round-off
+/// (the stability matrix asserts 1e-9 of the gap on extreme scenes, 1000 times inside this), and a
+/// vertex 1e-6 of the gap inside an obstacle would be pushed out with a speed of 1e-6·gap/Δt, far
+/// below anything physical; a crafted state with a vertex deep in an obstacle would instead be
+/// pushed out within one step, an arbitrary impulse.
+pub const RESTORE_BOUND_TOLERANCE: f64 = 1e-6;
+
+/// Relative tolerance of the sign of a restored contact force, as a fraction of the force that
+/// moves the hardest-to-move constrained vertex across the gap in one step, max_i A_ii·gap/Δt².
+/// The active-set method accepts a wrong-signed multiplier μ_i while W_ii·|μ_i| ≤ 1e-11 of the gap
+/// scale, with W_ii ≥ 1/A_ii, so its forces have the wrong sign by less than 1e-11·A_ii·gap/Δt²
+/// when the gap sets the scale: 1e-9 leaves a factor 100 for predictions far beyond the gap.
+pub const RESTORE_FORCE_TOLERANCE: f64 = 1e-9;
 
 /// The fields of the three time levels, in the backend's coordinates.
 #[derive(Clone, Debug)]
@@ -86,9 +109,19 @@ pub struct Stepper {
     /// The contact state of each constrained vertex: the active-set warm start.
     states: Vec<BoundState>,
     active_set: ActiveSetSolver,
-    /// Contact force at each constrained vertex after the last step (N).
+    active_set_settings: PdasSettings,
+    /// Contact force at each constrained vertex after the last step (N); at n = 0 the static
+    /// contact forces of the preload.
     forces: Vec<f64>,
+    /// Set when the preload's contact problem was solved less exactly than normal.
+    initial_warning: Option<String>,
     // Workspaces for the hot path.
+    /// ‖w_n‖² in the backend's coordinates, for the overflow test of the next step.
+    current_norm_squared: f64,
+    /// The backend's [`LinearBackend::magnitude_scale`] for Δt.
+    magnitude_scale: f64,
+    /// The contact states while a step is solved, adopted when it succeeds.
+    trial_states: Vec<BoundState>,
     prediction: Vec<f64>,
     lower: Vec<f64>,
     upper: Vec<f64>,
@@ -113,10 +146,10 @@ impl Stepper {
         check_base(scene, 0.0, initial_base)?;
         let free = Arc::new(FreeSystem::new(scene, plate));
         let linear = auto::resolve(scene.solver.linear, plate.free.len());
-        let w0 = static_preload(scene, &free, initial_base)?;
+        let preload = static_preload(scene, &free, initial_base)?;
         let backend = auto::build(linear, scene, plate, &free)?;
         let mut field = vec![0.0; backend.dimension()];
-        backend.field_of_free_dofs(&w0, &mut field);
+        backend.field_of_free_dofs(&preload.displacement, &mut field);
         let m = free.constrained.len();
         // The constrained values of w_0 as the backend evaluates them, so that a state restored
         // at n = 0 or 1 continues bit-identically (restore evaluates them the same way).
@@ -124,6 +157,8 @@ impl Stepper {
         backend.constrained_values(&field, &mut constrained_w0);
         Ok(Stepper {
             scene: scene.clone(),
+            current_norm_squared: backend.norm_squared(&field),
+            magnitude_scale: backend.magnitude_scale(scene.solver.time_step),
             backend,
             linear,
             levels: TimeLevels::at_rest(field),
@@ -132,9 +167,12 @@ impl Stepper {
             pressure: [scene.load.pressure; 2],
             restitution_previous: constrained_w0.clone(),
             restitution_current: constrained_w0,
-            states: vec![BoundState::Free; m],
+            states: preload.states,
             active_set: ActiveSetSolver::new(),
-            forces: vec![0.0; m],
+            active_set_settings: PdasSettings::default(),
+            forces: preload.forces,
+            initial_warning: preload.warning,
+            trial_states: vec![BoundState::Free; m],
             prediction: vec![0.0; m],
             lower: vec![0.0; m],
             upper: vec![0.0; m],
@@ -180,15 +218,30 @@ impl Stepper {
         w.iter().map(|w| self.base[1] + w).collect()
     }
 
-    /// Contact forces f_i = μ_i/Δt² at the constrained vertices after the last step (N): ≥ 0 on the
-    /// lower obstacle, ≤ 0 on the upper one, 0 where the vertex is free.
+    /// Contact forces f_i = μ_i/Δt² at the constrained vertices after the last step (N), with μ
+    /// the QP multipliers (2μ_i/Δt² after the start step, whose equation is scaled by Δt²/2): ≥ 0
+    /// on the lower obstacle, ≤ 0 on the upper one, 0 where the vertex is free. Before the first
+    /// step, the static contact forces λ_i of the preload (K w₀ = p₀ f + Bᵀλ).
     pub fn contact_forces(&self) -> &[f64] {
         &self.forces
     }
 
-    /// Changes the obstacle levels (tunable). The base and every constrained vertex must lie
-    /// within the new levels (to 1e-12 of the gap): moving an obstacle into the plate would make
-    /// the next step push it out within one Δt, an arbitrary impulse, so that is refused.
+    /// Set when the preload's contact problem was solved less exactly than normal (clarabel's
+    /// answer could not be polished), saying so.
+    pub fn initial_warning(&self) -> Option<&str> {
+        self.initial_warning.as_deref()
+    }
+
+    /// Replaces the settings of the active-set method (default [`PdasSettings::default`]); a cap
+    /// on its iterations sends the steps it cannot solve to the clarabel fallback.
+    pub fn set_active_set_settings(&mut self, settings: PdasSettings) {
+        self.active_set_settings = settings;
+    }
+
+    /// Changes the obstacle levels (tunable). The base and every constrained vertex of both stored
+    /// levels u_{n−1}, u_n must lie within the new levels (to 1e-12 of the gap): moving an
+    /// obstacle into the plate would make the next step push it out within one Δt, an arbitrary
+    /// impulse, so that is refused.
     pub fn set_obstacles(&mut self, lower: f64, upper: f64) -> Result<(), Error> {
         let mut scene = self.scene.clone();
         scene.obstacle.lower = lower;
@@ -196,27 +249,47 @@ impl Stepper {
         scene.validate()?;
         check_base(&scene, self.time(), self.base[1])?;
         let tolerance = 1e-12 * (upper - lower).abs().min(1.0);
-        let u = self.constrained_displacements();
-        if let Some(g) = scene.lower_obstacle() {
-            if let Some(v) = u.iter().find(|&&v| v < g - tolerance) {
+        let [previous, current] =
+            self.level_displacements(&self.levels.previous, &self.levels.current, self.base);
+        // Today's level always; the previous one where the scheme bounds it (as restore does).
+        let [previous_bounded, _] = bounded_levels(self.scene.solver.restitution, self.step_index);
+        let levels = std::iter::once(&current).chain(previous_bounded.then_some(&previous));
+        for u in levels {
+            if let Some(outside) = first_outside(&scene, u, tolerance) {
+                let (name, value, relation) = match outside.obstacle {
+                    Obstacle::Lower => ("obstacle.lower", lower, "above"),
+                    Obstacle::Upper => ("obstacle.upper", upper, "below"),
+                };
                 return Err(Error::invalid(
-                    "obstacle.lower",
-                    lower,
-                    &format!("must not be above the plate: a vertex is at u = {v} m"),
-                ));
-            }
-        }
-        if let Some(g) = scene.upper_obstacle() {
-            if let Some(v) = u.iter().find(|&&v| v > g + tolerance) {
-                return Err(Error::invalid(
-                    "obstacle.upper",
-                    upper,
-                    &format!("must not be below the plate: a vertex is at u = {v} m"),
+                    name,
+                    value,
+                    &format!(
+                        "must not be {relation} the plate: a vertex is at u = {} m",
+                        outside.value
+                    ),
                 ));
             }
         }
         self.scene = scene;
         Ok(())
+    }
+
+    /// The displacements u = z + w at the constrained vertices of two fields.
+    fn level_displacements(
+        &self,
+        previous: &[f64],
+        current: &[f64],
+        base: [f64; 2],
+    ) -> [Vec<f64>; 2] {
+        let m = self.free.constrained.len();
+        let mut out = [vec![0.0; m], vec![0.0; m]];
+        for ((u, field), z) in out.iter_mut().zip([previous, current]).zip(base) {
+            self.backend.constrained_values(field, u);
+            for u in u.iter_mut() {
+                *u += z;
+            }
+        }
+        out
     }
 
     /// Changes the pressure during the motion (tunable), applied from the next step on.
@@ -229,6 +302,10 @@ impl Stepper {
     }
 
     /// Advances one step to t_{n+1}; the base displacement there is `base_next` (m), absolute.
+    ///
+    /// A step whose result is not finite (an overflow, e.g. from a base displacement of 1e308 m
+    /// without obstacles) is refused with an error that names what overflowed, and so is every
+    /// step that fails: the stepper is then unchanged, still at t_n.
     pub fn step(&mut self, base_next: f64) -> Result<StepReport, Error> {
         let dt = self.scene.solver.time_step;
         let t_next = (self.step_index + 1) as f64 * dt;
@@ -254,7 +331,10 @@ impl Stepper {
             current,
             next,
         } = &mut self.levels;
-        self.backend.predict(previous, current, &forcing, next);
+        let mut norm_squared = self.backend.predict(previous, current, &forcing, next);
+        if !norm_squared.is_finite() {
+            return Err(self.overflow("the unconstrained displacement", t_next, base_next));
+        }
         let m = self.prediction.len();
         let e = self.scene.solver.restitution;
         let auto = self.scene.solver.qp == QpChoice::Auto;
@@ -272,6 +352,7 @@ impl Stepper {
                 && self
                     .backend
                     .prediction_proven_within(&self.levels.next, lower, upper));
+        let mut warning = None;
         let (path, multipliers) = if proven {
             (StepPath::Unconstrained, None)
         } else {
@@ -284,25 +365,81 @@ impl Stepper {
             if feasible && auto {
                 (StepPath::Unconstrained, None)
             } else if !auto {
-                (
-                    StepPath::Clarabel,
-                    Some(self.solve_with_clarabel(&forcing)?),
-                )
+                let (mu, polish_warning) = self.solve_with_clarabel(&forcing)?;
+                warning = polish_warning;
+                (StepPath::Clarabel, Some(mu))
             } else {
                 match self.solve_with_active_set() {
-                    Some(mu) => (StepPath::ActiveSet, Some(mu)),
-                    None => (
-                        StepPath::ClarabelFallback,
-                        Some(self.solve_with_clarabel(&forcing)?),
-                    ),
+                    Ok(mu) => (StepPath::ActiveSet, Some(mu)),
+                    Err(report) => {
+                        let (mu, polish_warning) = self.solve_with_clarabel(&forcing)?;
+                        let fallback = format!(
+                            "at t = {t_next} s the active-set method did not converge \
+                             ({:?} after {} iterations and {} safeguard iterations): clarabel \
+                             solved the step instead",
+                            report.status, report.iterations, report.safeguard_iterations
+                        );
+                        warning = Some(match polish_warning {
+                            Some(w) => format!("{fallback}; {w}"),
+                            None => fallback,
+                        });
+                        (StepPath::ClarabelFallback, Some(mu))
+                    }
                 }
             }
         };
+        // The step's equation times Δt² is the QP's optimality condition A w − b = Bᵀμ, so
+        // f = μ/Δt²; the start step's equation is multiplied by Δt²/2 (its
+        // 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 gives b_0 = M u_0 + ½Δt²F̄_0), so there
+        // f = 2μ/Δt².
+        let equation_scale = if start { 2.0 } else { 1.0 };
+        let mut force_magnitude = 0.0;
+        if let Some(mu) = &multipliers {
+            norm_squared = self.backend.norm_squared(&self.levels.next);
+            force_magnitude = equation_scale * mu.iter().map(|x| x.abs()).sum::<f64>() / (dt * dt);
+            if !(norm_squared.is_finite() && force_magnitude.is_finite()) {
+                return Err(self.overflow(
+                    "the displacement or the contact forces of the contact solve",
+                    t_next,
+                    base_next,
+                ));
+            }
+        }
+        if !self.outputs_provably_finite(norm_squared, base_next, force_magnitude) {
+            let (energy, values) = self.energy_and_values(
+                &self.levels.current,
+                &self.levels.next,
+                [z_curr, base_next],
+                p_next,
+                false,
+            );
+            let reported = [
+                energy.kinetic,
+                energy.elastic,
+                energy.total,
+                force_magnitude,
+            ];
+            if !values.iter().chain(&reported).all(|v| v.is_finite()) {
+                return Err(self.overflow("the energy or an output", t_next, base_next));
+            }
+        }
+        let damping_loss = if start || self.free.damping.is_zero() {
+            0.0
+        } else {
+            self.backend
+                .damping_quadratic(&self.levels.next, &self.levels.previous)
+                / (4.0 * dt)
+        };
+        if !damping_loss.is_finite() {
+            return Err(self.overflow("the energy removed by damping", t_next, base_next));
+        }
+        // The step succeeded: from here on nothing fails.
         let active = match &multipliers {
             Some(mu) => {
                 for (f, &x) in self.forces.iter_mut().zip(mu) {
-                    *f = x / (dt * dt);
+                    *f = equation_scale * x / (dt * dt);
                 }
+                std::mem::swap(&mut self.states, &mut self.trial_states);
                 self.states.iter().filter(|s| s.is_active()).count()
             }
             None => {
@@ -320,6 +457,7 @@ impl Stepper {
                 .constrained_values(&self.levels.next, &mut self.restitution_current);
         }
         self.levels.accept();
+        self.current_norm_squared = norm_squared;
         self.base = [z_curr, base_next];
         self.pressure = [self.pressure[1], p_next];
         self.step_index += 1;
@@ -327,7 +465,48 @@ impl Stepper {
             active,
             path,
             bounds_evaluated: !proven,
+            warning,
+            damping_loss,
         })
+    }
+
+    /// Whether the outputs after a step to `base_next`, whose new field has squared norm
+    /// `norm_squared` and whose contact forces sum to `force_magnitude` in absolute value, are
+    /// finite for certain: each output is a sum of at most five products of at most three factors,
+    /// each factor bounded by c·N ([`LinearBackend::magnitude_scale`]) or by the largest of the
+    /// base and load data; below 1e100 for all of them, no output can reach 1e308.
+    fn outputs_provably_finite(
+        &self,
+        norm_squared: f64,
+        base_next: f64,
+        force_magnitude: f64,
+    ) -> bool {
+        let dt = self.scene.solver.time_step;
+        let fields = self.magnitude_scale * norm_squared.max(self.current_norm_squared).max(1.0);
+        let [z_prev, z_curr] = self.base;
+        let data = [
+            z_prev.abs(),
+            z_curr.abs(),
+            base_next.abs(),
+            (base_next - z_curr).abs() / dt,
+            self.scene.load.pressure.abs(),
+            self.pressure[0].abs(),
+            self.pressure[1].abs(),
+            self.free.total_mass / (dt * dt),
+            self.free.area,
+            force_magnitude,
+        ];
+        fields <= 1e100 && data.iter().all(|&v| v <= 1e100)
+    }
+
+    /// The error of a step whose `what` is not finite.
+    fn overflow(&self, what: &str, t_next: f64, base_next: f64) -> Error {
+        Error::Numerical(format!(
+            "{what} became non-finite at t = {t_next} s (base displacement {base_next:e} m, \
+             load.pressure {:e} Pa): the step is refused and the state stays at t = {} s",
+            self.scene.load.pressure,
+            self.time()
+        ))
     }
 
     /// Bounds on w_{n+1} at the constrained vertices: [(1+e)g1 − e u_{n−1} − z_{n+1}, …] with
@@ -357,34 +536,39 @@ impl Stepper {
     }
 
     /// The exact active-set method on the Delassus operator, warm-started from the last step's
-    /// contact states; `None` when it does not converge (the caller falls back to clarabel).
-    fn solve_with_active_set(&mut self) -> Option<Vec<f64>> {
+    /// contact states, into the trial states; its report when it does not converge (the caller
+    /// falls back to clarabel).
+    fn solve_with_active_set(&mut self) -> Result<Vec<f64>, PdasReport> {
         let mut delassus = BackendDelassus {
             backend: &mut *self.backend,
             dim: self.prediction.len(),
         };
+        self.trial_states.copy_from_slice(&self.states);
         let report = self.active_set.solve(
             &mut delassus,
             &self.prediction,
             &self.lower,
             &self.upper,
-            &mut self.states,
-            &PdasSettings::default(),
+            &mut self.trial_states,
+            &self.active_set_settings,
         );
         if !report.status.is_solved() {
-            self.states.fill(BoundState::Free);
-            return None;
+            return Err(report);
         }
         let mu = self.active_set.lambda().to_vec();
         let active: Vec<usize> = (0..mu.len())
-            .filter(|&i| self.states[i].is_active())
+            .filter(|&i| self.trial_states[i].is_active())
             .collect();
         self.backend.correct(&mut self.levels.next, &active, &mu);
-        Some(mu)
+        Ok(mu)
     }
 
-    /// clarabel on the full primal QP min ½wᵀAw − bᵀw over the box; returns the multipliers.
-    fn solve_with_clarabel(&mut self, forcing: &StepForcing) -> Result<Vec<f64>, Error> {
+    /// clarabel on the full primal QP min ½wᵀAw − bᵀw over the box, into the trial states;
+    /// returns the multipliers, and a warning when the answer could not be polished.
+    fn solve_with_clarabel(
+        &mut self,
+        forcing: &StepForcing,
+    ) -> Result<(Vec<f64>, Option<String>), Error> {
         let free = &*self.free;
         let mut b = vec![0.0; free.load.len()];
         free.right_hand_side(
@@ -393,8 +577,8 @@ impl Stepper {
             &self.backend.to_free_dofs(&self.levels.current),
             &mut b,
         );
-        let solution = contact::clarabel::solve_box_qp(&BoxQp {
-            a: free.system.as_ref(),
+        let (solution, warning) = solve_reference(&BoxQp {
+            a: free.system_matrix(forcing.start).as_ref(),
             b: &b,
             constrained: &free.constrained,
             lower: &self.lower,
@@ -402,8 +586,8 @@ impl Stepper {
         })?;
         self.backend
             .field_of_free_dofs(&solution.x, &mut self.levels.next);
-        self.states = solution.states;
-        Ok(solution.lambda)
+        self.trial_states = solution.states;
+        Ok((solution.lambda, warning))
     }
 
     /// Outputs after the last step, evaluated on demand (O(n): a host that reads them at its
@@ -411,20 +595,14 @@ impl Stepper {
     pub fn outputs(&self) -> Outputs {
         let active_nodes = self.states.iter().filter(|s| s.is_active()).count();
         let contact_force = self.forces.iter().sum();
-        let dt = self.scene.solver.time_step;
-        let pieces = self
-            .backend
-            .energy(&self.levels.previous, &self.levels.current, dt);
         // The pressure that acted on the last step, not one set since for the next.
-        let energy = DiscreteEnergy::new(
-            &self.free,
-            pieces,
+        let (energy, [a, b, c]) = self.energy_and_values(
+            &self.levels.previous,
+            &self.levels.current,
             self.base,
             self.pressure[1],
-            dt,
             self.step_index == 0,
         );
-        let [a, b, c] = self.backend.output_values(&self.levels.current);
         let z = self.base[1];
         Outputs {
             corner1: z + a,
@@ -436,6 +614,22 @@ impl Stepper {
             active_nodes,
             contact_force,
         }
+    }
+
+    /// The energy between two levels (`previous`, `current`) at base positions `base` under
+    /// `pressure`, and the relative displacement w of `current` at the output points.
+    fn energy_and_values(
+        &self,
+        previous: &[f64],
+        current: &[f64],
+        base: [f64; 2],
+        pressure: f64,
+        at_rest: bool,
+    ) -> (DiscreteEnergy, [f64; 3]) {
+        let dt = self.scene.solver.time_step;
+        let pieces = self.backend.energy(previous, current, dt);
+        let energy = DiscreteEnergy::new(&self.free, pieces, base, pressure, dt, at_rest);
+        (energy, self.backend.output_values(current))
     }
 
     /// The dynamic state, for FMU get/set/serialize.
@@ -454,6 +648,15 @@ impl Stepper {
     }
 
     /// Restores a state taken from a stepper of a scene with the same fixed parameters.
+    ///
+    /// The state is untrusted input: it is refused, with an error naming the field, unless its
+    /// fixed parameters and backend match this stepper's and its tunable ones are valid, its
+    /// dimensions match, every number is finite, its contact codes are in range and its contact
+    /// forces have their signs ([`State`] and [`RESTORE_FORCE_TOLERANCE`]), both base values lie
+    /// strictly inside the gap, every constrained vertex of both levels lies within the obstacles
+    /// to [`RESTORE_BOUND_TOLERANCE`] of the gap, and its energies and outputs are finite. With restitution e > 0 the scheme
+    /// bounds (u_{k+1} + e u_{k−1})/(1 + e) rather than u_{k+1}, so only the levels k ≤ 1 (bounded
+    /// by the start step and the preload) can be checked. Nothing changes unless all of it holds.
     pub fn restore(&mut self, state: &State) -> Result<(), Error> {
         let mut fixed = state.scene.clone();
         fixed.obstacle.lower = self.scene.obstacle.lower;
@@ -463,30 +666,89 @@ impl Stepper {
         // The QP choice changes how a step is solved, not what it computes: a state moves freely
         // between the fast path and the clarabel reference.
         fixed.solver.qp = self.scene.solver.qp;
-        let m = self.free.constrained.len();
-        let n = self.backend.dimension();
-        if fixed != self.scene
-            || state.backend != self.linear
-            || state.previous.len() != n
-            || state.current.len() != n
-            || state.forces.len() != m
-            || state.active_set.len() != m
-        {
-            return Err(Error::invalid(
-                "FMU state",
-                "<state>",
-                "was taken from a model with other fixed parameters",
+        if fixed != self.scene {
+            return Err(Error::invalid_state(
+                "scene",
+                "<scene>",
+                "must have the fixed parameters of the running model",
             ));
         }
-        let states = state
-            .active_set
+        state.scene.validate()?;
+        if state.backend != self.linear {
+            return Err(Error::invalid_state(
+                "backend",
+                format!("{:?}", state.backend),
+                &format!("must be the running backend {:?}", self.linear),
+            ));
+        }
+        let (n, m) = (self.backend.dimension(), self.free.constrained.len());
+        for (field, length, expected) in [
+            ("previous", state.previous.len(), n),
+            ("current", state.current.len(), n),
+            ("forces", state.forces.len(), m),
+            ("active_set", state.active_set.len(), m),
+        ] {
+            if length != expected {
+                return Err(Error::invalid_state(
+                    field,
+                    format!("<{length} values>"),
+                    &format!("must hold {expected} values"),
+                ));
+            }
+        }
+        let states = state.check_fields(self.force_tolerance(&state.scene))?;
+        let time = state.step_index as f64 * self.scene.solver.time_step;
+        for (i, &z) in state.base.iter().enumerate() {
+            check_base(&state.scene, time, z).map_err(|e| {
+                Error::invalid_state(
+                    &format!("base[{i}]"),
+                    z,
+                    &format!("must be inside the gap ({e})"),
+                )
+            })?;
+        }
+        let displacements = self.level_displacements(&state.previous, &state.current, state.base);
+        let bounded = bounded_levels(state.scene.solver.restitution, state.step_index);
+        let tolerance = RESTORE_BOUND_TOLERANCE * gap(&state.scene);
+        for ((field, u), bounded) in ["previous", "current"]
             .iter()
-            .map(|&c| state_from_code(c))
-            .collect::<Option<Vec<_>>>()
-            .ok_or_else(|| Error::invalid("FMU state", "<state>", "holds an invalid active set"))?;
+            .zip(&displacements)
+            .zip(bounded)
+        {
+            if let Some(outside) = first_outside(&state.scene, u, tolerance).filter(|_| bounded) {
+                return Err(Error::invalid_state(
+                    &format!("{field}[vertex {}]", outside.vertex),
+                    format!("<u = {} m>", outside.value),
+                    &format!(
+                        "must put every constrained vertex within the obstacles [{:?}, {:?}] m, \
+                         to {tolerance:e} m",
+                        state.scene.lower_obstacle(),
+                        state.scene.upper_obstacle()
+                    ),
+                ));
+            }
+        }
+        let (energy, values) = self.energy_and_values(
+            &state.previous,
+            &state.current,
+            state.base,
+            state.pressure[1],
+            state.step_index == 0,
+        );
+        let force: f64 = state.forces.iter().sum();
+        let reported = [energy.kinetic, energy.elastic, energy.total, force];
+        if let Some(v) = values.iter().chain(&reported).find(|v| !v.is_finite()) {
+            return Err(Error::invalid_state(
+                "current",
+                format!("<an energy or output of {v}>"),
+                "must give finite energies and outputs",
+            ));
+        }
+        // Everything checks out: adopt it.
         self.levels.previous.copy_from_slice(&state.previous);
         self.levels.current.copy_from_slice(&state.current);
         self.levels.next.copy_from_slice(&state.current);
+        self.current_norm_squared = self.backend.norm_squared(&self.levels.current);
         let qp = self.scene.solver.qp;
         self.scene = state.scene.clone();
         self.scene.solver.qp = qp;
@@ -498,9 +760,82 @@ impl Stepper {
         self.backend
             .constrained_values(&self.levels.current, &mut self.restitution_current);
         self.states = states;
-        self.forces = state.forces.clone();
+        self.forces.copy_from_slice(&state.forces);
         Ok(())
     }
+
+    /// [`RESTORE_FORCE_TOLERANCE`] in newtons for the obstacles of `scene`.
+    fn force_tolerance(&self, scene: &Scene) -> f64 {
+        let a = self.free.system.as_ref();
+        let largest_diagonal = self
+            .free
+            .constrained
+            .iter()
+            .map(|&d| {
+                a.row_idx_of_col(d)
+                    .zip(a.val_of_col(d))
+                    .find(|&(i, _)| i == d)
+                    .map_or(0.0, |(_, &v)| v)
+            })
+            .fold(0.0, f64::max);
+        let dt = scene.solver.time_step;
+        RESTORE_FORCE_TOLERANCE * largest_diagonal * gap(scene) / (dt * dt)
+    }
+}
+
+/// Which of the stored levels (u_{n−1}, u_n) the scheme keeps within the obstacles: both for
+/// e = 0; for e > 0 the bound is on (u_{k+1} + e u_{k−1})/(1 + e), so only u_0 (the preload) and
+/// u_1 (the start step, which bounds u_1 itself).
+fn bounded_levels(restitution: f64, step_index: u64) -> [bool; 2] {
+    let bounded = |level: Option<u64>| restitution == 0.0 || level.is_none_or(|k| k <= 1);
+    [
+        bounded(step_index.checked_sub(1)),
+        bounded(Some(step_index)),
+    ]
+}
+
+/// The distance between the obstacles, or to the one obstacle; 1 m without any.
+fn gap(scene: &Scene) -> f64 {
+    match (scene.lower_obstacle(), scene.upper_obstacle()) {
+        (Some(g1), Some(g2)) => g2 - g1,
+        (Some(g), None) | (None, Some(g)) => g.abs(),
+        (None, None) => 1.0,
+    }
+}
+
+/// An obstacle of the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Obstacle {
+    Lower,
+    Upper,
+}
+
+/// A constrained vertex found past an obstacle.
+#[derive(Clone, Copy, Debug)]
+struct Outside {
+    obstacle: Obstacle,
+    vertex: usize,
+    value: f64,
+}
+
+/// The first constrained vertex of `u` that lies past an obstacle of `scene` by more than
+/// `tolerance` (m), lower obstacle first.
+fn first_outside(scene: &Scene, u: &[f64], tolerance: f64) -> Option<Outside> {
+    let find = |obstacle, past: &dyn Fn(f64) -> bool| {
+        u.iter().position(|&v| past(v)).map(|vertex| Outside {
+            obstacle,
+            vertex,
+            value: u[vertex],
+        })
+    };
+    let below = scene
+        .lower_obstacle()
+        .and_then(|g| find(Obstacle::Lower, &|v| v < g - tolerance));
+    below.or_else(|| {
+        scene
+            .upper_obstacle()
+            .and_then(|g| find(Obstacle::Upper, &|v| v > g + tolerance))
+    })
 }
 
 /// The base must stay strictly inside the gap (docs/model.md).

@@ -1,4 +1,6 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests. Each test crate uses some of them only, hence the
+//! allowance of dead code.
+#![allow(dead_code)]
 
 use plate_impact::element::ElementKind;
 use plate_impact::scene::{QpChoice, Scene};
@@ -13,6 +15,15 @@ pub fn paper_scene(name: &str, element: ElementKind) -> Scene {
         s.mesh.ny = 10;
     }
     s
+}
+
+/// The largest difference of u_n between two steppers over the obstacle-constrained vertices (m).
+pub fn largest_vertex_difference(a: &Stepper, b: &Stepper) -> f64 {
+    a.constrained_displacements()
+        .iter()
+        .zip(b.constrained_displacements())
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 /// How closely the fast path and the clarabel reference agree.
@@ -50,12 +61,7 @@ pub fn fast_path_against_clarabel(scene: &Scene, steps: usize, max_compared: usi
         }
         reference.restore(&state).unwrap();
         reference.step(z).unwrap();
-        let vertices = fast
-            .constrained_displacements()
-            .iter()
-            .zip(reference.constrained_displacements())
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let vertices = largest_vertex_difference(&fast, &reference);
         let (a, b) = (fast.outputs(), reference.outputs());
         let corners = (a.corner1 - b.corner1)
             .abs()
