@@ -116,7 +116,7 @@ pub trait Model: Send + Sized {
 
 /// Whether `variable` may be set in `phase`: parameters before initialization ends, tunable
 /// parameters and inputs also while stepping; never outputs, and nothing once terminated or failed.
-pub fn check_settable(variable: &Variable, phase: Phase, function: &str) -> Result<(), Failure> {
+pub fn check_settable(variable: &Variable, phase: Phase) -> Result<(), Failure> {
     let configuring = matches!(phase, Phase::Instantiated | Phase::Initialization);
     let allowed = match variable.causality {
         Causality::Parameter => {
@@ -131,15 +131,15 @@ pub fn check_settable(variable: &Variable, phase: Phase, function: &str) -> Resu
     }
     Err(Failure::refused(match variable.causality {
         Causality::Parameter if variable.variability == Variability::Fixed => format!(
-            "{function}: {} is a fixed parameter: set it before fmi2ExitInitializationMode (phase now {phase:?})",
+            "{} is a fixed parameter: set it before the end of initialization (phase now {phase:?})",
             variable.name
         ),
         Causality::Parameter | Causality::Input => format!(
-            "{function}: {} cannot be set in the {phase:?} phase",
+            "{} cannot be set in the {phase:?} phase",
             variable.name
         ),
         causality => format!(
-            "{function}: {} is an {causality:?}, it cannot be set",
+            "{} is an {causality:?}, it cannot be set",
             variable.name
         ),
     }))
@@ -150,16 +150,15 @@ pub fn variable<'a>(
     variables: &'a [Variable],
     vr: u32,
     kinds: &[Kind],
-    function: &str,
 ) -> Result<&'a Variable, Failure> {
     match variables.iter().find(|v| v.vr == vr) {
         Some(v) if kinds.contains(&v.kind) => Ok(v),
         Some(v) => Err(Failure::refused(format!(
-            "{function}: value reference {vr} is {} of type {:?}, use the matching function",
+            "value reference {vr} is {} of type {:?}, use the matching function",
             v.name, v.kind
         ))),
         None => Err(Failure::refused(format!(
-            "{function}: {vr} is not a value reference of this FMU"
+            "{vr} is not a value reference of this FMU"
         ))),
     }
 }
@@ -170,14 +169,13 @@ pub fn variable<'a>(
 pub fn set_values<M: Model>(
     model: &mut M,
     phase: Phase,
-    function: &str,
     kinds: &[Kind],
     values: impl Iterator<Item = (u32, Value)>,
 ) -> Result<(), Failure> {
     let mut draft = model.draft();
     for (vr, value) in values {
-        let v = variable(M::VARIABLES, vr, kinds, function)?;
-        check_settable(v, phase, function)?;
+        let v = variable(M::VARIABLES, vr, kinds)?;
+        check_settable(v, phase)?;
         model.stage(&mut draft, v, value, phase)?;
     }
     model.commit(draft, phase)

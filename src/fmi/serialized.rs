@@ -14,7 +14,7 @@
 //! trusts a length before checking it against the bytes at hand. The checksum detects corruption
 //! only: a buffer with a matching checksum may still be foreign or crafted, so the FMU validates
 //! every decoded field as untrusted input afterwards. JSON keeps the payload readable for
-//! debugging (and lets tests craft payloads: [`decode_json`], [`encode_json`]), and with
+//! debugging (and lets tests craft payloads: [`decode_json`], [`encode_payload`]), and with
 //! serde_json's `float_roundtrip` feature every finite f64 reads back bit-identically (ryu writes
 //! the shortest text that parses to the same bits, and the feature makes the parser exact).
 
@@ -32,11 +32,13 @@ pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 pub fn encode<T: Serialize>(value: &T) -> Result<Vec<u8>, String> {
     let payload =
         serde_json::to_vec(value).map_err(|e| format!("cannot serialize the FMU state: {e}"))?;
-    Ok(frame(&payload))
+    Ok(encode_payload(&payload))
 }
 
-/// The bytes of the layout around an encoded payload.
-fn frame(payload: &[u8]) -> Vec<u8> {
+/// The bytes of the layout around a payload given as JSON text, with a fresh checksum. [`encode`]
+/// uses it; tests use it to craft states: a buffer that passes every framing check and carries
+/// whatever payload the test wants.
+pub fn encode_payload(payload: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(payload.len() + 48);
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
@@ -83,12 +85,6 @@ pub fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
 /// The payload of a serialized state as a JSON tree (for inspecting or crafting states in tests).
 pub fn decode_json(bytes: &[u8]) -> Result<serde_json::Value, String> {
     decode(bytes)
-}
-
-/// Serialized-state bytes around a JSON tree, with a fresh checksum (for crafting states in tests:
-/// a buffer that passes every framing check and carries whatever payload the test wants).
-pub fn encode_json(payload: &serde_json::Value) -> Vec<u8> {
-    frame(&serde_json::to_vec(payload).expect("a JSON tree always serializes"))
 }
 
 /// The payload of a serialized state, after every framing check.
@@ -181,7 +177,7 @@ mod tests {
         let bytes = encode(&vec![1.0f64, 2.0]).unwrap();
         let mut tree = decode_json(&bytes).unwrap();
         tree[1] = serde_json::json!(-1e308);
-        let crafted = encode_json(&tree);
+        let crafted = encode_payload(&serde_json::to_vec(&tree).unwrap());
         assert_eq!(decode::<Vec<f64>>(&crafted).unwrap(), [1.0, -1e308]);
         // The checksum is zlib's CRC-32, so Python can craft states too.
         assert_eq!(crc32fast::hash(b"123456789"), 0xcbf4_3926);

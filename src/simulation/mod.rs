@@ -50,6 +50,15 @@ pub struct CommunicationStep {
     pub degraded_steps: u64,
 }
 
+/// How [`Simulation::restart`] got back to n = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetUp {
+    /// The assembled plate and its backend were reused.
+    Reused,
+    /// The plate was assembled and its backend built anew.
+    Rebuilt,
+}
+
 /// The serializable state of a [`Simulation`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SimulationState {
@@ -98,7 +107,7 @@ impl Simulation {
         scene: &Scene,
         start_time: f64,
         external_base: f64,
-    ) -> Result<(), Error> {
+    ) -> Result<SetUp, Error> {
         let (initial, initial_external) = &self.initial;
         let old = &initial.scene;
         let z0 = scene.builtin_base(0.0) + external_base;
@@ -111,7 +120,7 @@ impl Simulation {
                 || (*initial_external == external_base && old.obstacle == scene.obstacle));
         if !reusable {
             *self = Simulation::new(scene, start_time, external_base)?;
-            return Ok(());
+            return Ok(SetUp::Rebuilt);
         }
         let mut state = initial.clone();
         state.scene = scene.clone();
@@ -122,7 +131,7 @@ impl Simulation {
         self.grid.start = start_time;
         self.input = InputHistory::new(external_base);
         self.outputs = OnceCell::new();
-        Ok(())
+        Ok(SetUp::Reused)
     }
 
     /// A simulation continuing from `state` (built for its scene, then restored).
@@ -270,15 +279,19 @@ mod tests {
         b.obstacle.lower = -0.004;
         let mut preloaded = b.clone();
         preloaded.initial.preload_pressure = -3e5;
+        let mut finer = a.clone();
+        finer.mesh.nx = 4;
         let mut sim = Simulation::new(&a, 0.0, 0.0).unwrap();
         corner_trace(&mut sim, 5);
-        for (scene, start, external) in [
-            (&b, 0.5, 2e-3),
-            (&a, 0.0, 0.0),
-            (&preloaded, 0.0, 0.0),
-            (&preloaded, 0.0, 1e-3),
+        for (scene, start, external, how) in [
+            (&b, 0.5, 2e-3, SetUp::Reused),
+            (&a, 0.0, 0.0, SetUp::Reused),
+            (&preloaded, 0.0, 0.0, SetUp::Rebuilt),
+            (&preloaded, 0.0, 0.0, SetUp::Reused),
+            (&preloaded, 0.0, 1e-3, SetUp::Rebuilt),
+            (&finer, 0.0, 0.0, SetUp::Rebuilt),
         ] {
-            sim.restart(scene, start, external).unwrap();
+            assert_eq!(sim.restart(scene, start, external).unwrap(), how);
             let mut fresh = Simulation::new(scene, start, external).unwrap();
             assert_eq!(sim.outputs(), fresh.outputs());
             assert_eq!(sim.time(), start);

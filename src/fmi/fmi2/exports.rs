@@ -6,8 +6,15 @@
 //! `catch_unwind` so that no panic crosses the C boundary, and returns its status. An
 //! `fmi2Component` is a `Box<Component>` and an `fmi2FMUstate` a `Box<StoredState>`, both turned
 //! into raw pointers that the host hands back; FMI forbids using them after they are freed.
+//!
+//! # Safety
+//! Every function requires what the FMI 2.0 standard requires of its caller: an `fmi2Component`
+//! returned by fmi2Instantiate and not yet freed, used by one thread at a time; arrays valid for
+//! the lengths passed; NUL-terminated strings; `fmi2FMUstate` values this library allocated and
+//! that were not freed. The functions are public so that tests can drive them as a host would.
 
-#![allow(non_snake_case, non_camel_case_types)]
+// The names are the standard's; the safety contract is stated once above, not per function.
+#![allow(non_snake_case, non_camel_case_types, clippy::missing_safety_doc)]
 
 use super::call_state::Function;
 use super::instance::{Instance, StoredState};

@@ -86,6 +86,11 @@ impl<M: Model> Instance<M> {
         &self.name
     }
 
+    /// The model behind the instance.
+    pub fn model(&self) -> &M {
+        &self.model
+    }
+
     /// The current state of the call-state machine.
     pub fn mode(&self) -> Mode {
         self.mode
@@ -191,7 +196,7 @@ impl<M: Model> Instance<M> {
     ) -> Result<(), Failure> {
         let phase = self.enter(function)?;
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            let v = model::variable(M::VARIABLES, vr, kinds, &function.name())?;
+            let v = model::variable(M::VARIABLES, vr, kinds)?;
             let value = self.model.get(v, phase)?;
             *slot = convert(value).ok_or_else(|| {
                 Failure::refused(format!(
@@ -239,9 +244,7 @@ impl<M: Model> Instance<M> {
         self.enter(function)?;
         match vrs.first() {
             None => Ok(()),
-            Some(&vr) => {
-                model::variable(M::VARIABLES, vr, &[Kind::String], &function.name()).map(|_| ())
-            }
+            Some(&vr) => model::variable(M::VARIABLES, vr, &[Kind::String]).map(|_| ()),
         }
     }
 
@@ -252,7 +255,7 @@ impl<M: Model> Instance<M> {
         values: impl Iterator<Item = (u32, Value)>,
     ) -> Result<(), Failure> {
         let phase = self.enter(function)?;
-        model::set_values(&mut self.model, phase, &function.name(), kinds, values)
+        model::set_values(&mut self.model, phase, kinds, values)
     }
 
     /// fmi2SetReal: every value is checked before any is applied.
@@ -290,7 +293,7 @@ impl<M: Model> Instance<M> {
         self.enter(function)?;
         let mut items = Vec::with_capacity(vrs.len());
         for ((&vr, &order), &x) in vrs.iter().zip(orders).zip(values) {
-            let v = model::variable(M::VARIABLES, vr, &[Kind::Real], &function.name())?;
+            let v = model::variable(M::VARIABLES, vr, &[Kind::Real])?;
             items.push((v, order, x));
         }
         self.model.set_input_derivatives(&items)

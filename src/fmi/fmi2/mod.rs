@@ -5,3 +5,6 @@
 pub mod call_state;
 pub mod exports;
 pub mod instance;
+
+#[cfg(test)]
+mod tests;

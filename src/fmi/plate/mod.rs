@@ -20,7 +20,7 @@ use crate::fmi::variables::{self, vr, Causality, Start, Variable};
 use crate::scene::Scene;
 use crate::simulation::grid::TimeGrid;
 use crate::simulation::input::InputSample;
-use crate::simulation::{InternalStep, Simulation};
+use crate::simulation::{InternalStep, SetUp, Simulation};
 use values::first_non_finite;
 
 /// Log category of contact events: vertices entering or leaving contact, and the solver path.
@@ -48,6 +48,8 @@ pub struct PlateModel {
     simulation: Option<Simulation>,
     /// Whether `simulation` was set up for the current parameters, input and start time.
     current: bool,
+    /// How many times the plate was assembled and its backend built (the expensive set-up).
+    full_set_ups: u64,
 }
 
 /// Start value of the input `base.displacement`.
@@ -92,25 +94,52 @@ impl PlateModel {
         if !self.current || self.simulation.is_none() {
             self.parameters.validate()?;
             check_experiment(&self.parameters, self.start_time, self.stop_time)?;
-            match &mut self.simulation {
+            let set_up = match &mut self.simulation {
                 Some(sim) => sim.restart(&self.parameters, self.start_time, self.input)?,
                 None => {
                     self.simulation = Some(Simulation::new(
                         &self.parameters,
                         self.start_time,
                         self.input,
-                    )?)
+                    )?);
+                    SetUp::Rebuilt
                 }
-            }
+            };
+            self.full_set_ups += u64::from(set_up == SetUp::Rebuilt);
             self.current = true;
         }
         Ok(self.simulation.as_ref().expect("set up above"))
+    }
+
+    /// How many times this model assembled the plate and built its backend (for tests and
+    /// diagnostics: sets before the end of initialization must not each cost a set-up).
+    pub fn full_set_ups(&self) -> u64 {
+        self.full_set_ups
     }
 
     fn running_simulation(&mut self) -> Result<&mut Simulation, Failure> {
         self.simulation
             .as_mut()
             .ok_or_else(|| Failure::refused("the simulation is not available: it was never set up"))
+    }
+}
+
+/// Logs what the host should know of one internal step: vertices entering or leaving contact
+/// under logContact, and under logStatusWarning a step solved less exactly than the normal path.
+fn report_internal_step(log: &mut Logger, step: &InternalStep) {
+    if step.report.active != step.previously_active && log.enabled(LOG_CONTACT) {
+        let message = format!(
+            "t = {} s: {} vertices in contact (was {}), path {:?}",
+            step.time, step.report.active, step.previously_active, step.report.path
+        );
+        log.log(Status::Ok, LOG_CONTACT, &message);
+    }
+    if step.degraded() {
+        let message = format!(
+            "t = {} s: the active-set method did not converge; clarabel solved the step instead, to its interior-point tolerance",
+            step.time
+        );
+        log.log(Status::Warning, LOG_WARNING, &message);
     }
 }
 
@@ -138,13 +167,16 @@ impl Model for PlateModel {
             input_derivatives: [None, None],
             simulation: None,
             current: false,
+            full_set_ups: 0,
         }
     }
 
     fn reset(&mut self) {
-        let cache = self.simulation.take();
-        *self = PlateModel::new();
-        self.simulation = cache;
+        *self = PlateModel {
+            simulation: self.simulation.take(),
+            full_set_ups: self.full_set_ups,
+            ..PlateModel::new()
+        };
     }
 
     fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), Failure> {
@@ -251,14 +283,11 @@ impl Model for PlateModel {
         let mut derivatives = self.input_derivatives;
         for &(v, order, x) in items {
             if v.vr != vr::BASE_DISPLACEMENT {
-                return Err(Failure::refused(format!(
-                    "fmi2SetRealInputDerivatives: {} is not an input",
-                    v.name
-                )));
+                return Err(Failure::refused(format!("{} is not an input", v.name)));
             }
             if !(1..=2).contains(&order) {
                 return Err(Failure::refused(format!(
-                    "fmi2SetRealInputDerivatives: order {order} of {} is not supported (1 or 2)",
+                    "order {order} of {} is not supported (1 or 2)",
                     v.name
                 )));
             }
@@ -305,23 +334,7 @@ impl Model for PlateModel {
                 )));
             }
         }
-        let contact_log = log.enabled(LOG_CONTACT);
-        let mut observer = |s: &InternalStep| {
-            if contact_log && s.report.active != s.previously_active {
-                let message = format!(
-                    "t = {} s: {} vertices in contact (was {}), path {:?}",
-                    s.time, s.report.active, s.previously_active, s.report.path
-                );
-                log.log(Status::Ok, LOG_CONTACT, &message);
-            }
-            if s.degraded() {
-                let message = format!(
-                    "t = {} s: the active-set method did not converge; clarabel solved the step instead, to its interior-point tolerance",
-                    s.time
-                );
-                log.log(Status::Warning, LOG_WARNING, &message);
-            }
-        };
+        let mut observer = |step: &InternalStep| report_internal_step(log, step);
         let summary = sim.advance(steps, &sample, &mut observer);
         let at = sim.time();
         let summary = summary.map_err(|e| {
@@ -392,6 +405,7 @@ impl Model for PlateModel {
                             )));
                         }
                         self.simulation = Some(sim);
+                        self.full_set_ups += 1;
                     }
                 }
                 self.current = true;
@@ -403,5 +417,45 @@ impl Model for PlateModel {
         self.input = snap.input;
         self.input_derivatives = snap.input_derivatives;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi::logger::LogSink;
+    use crate::simulation::{StepPath, StepReport};
+    use std::sync::{Arc, Mutex};
+
+    /// Defect 9: a step solved less exactly than the normal path was silent.
+    #[test]
+    fn degraded_steps_are_logged_as_warnings() {
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let s = seen.clone();
+        let sink: LogSink = Box::new(move |status, category, message| {
+            s.lock()
+                .unwrap()
+                .push((status, category.to_string(), message.to_string()))
+        });
+        let mut log = Logger::new(Some(sink), variables::LOG_CATEGORIES, false);
+        let report = StepReport {
+            active: 3,
+            path: StepPath::ClarabelFallback,
+            bounds_evaluated: true,
+        };
+        let step = InternalStep {
+            time: 0.25,
+            report: &report,
+            previously_active: 0,
+        };
+        report_internal_step(&mut log, &step);
+        let seen = seen.lock().unwrap();
+        assert_eq!(seen.len(), 1, "logContact is off: only the warning");
+        let (status, category, message) = &seen[0];
+        assert_eq!((*status, category.as_str()), (Status::Warning, LOG_WARNING));
+        assert!(
+            message.contains("t = 0.25 s") && message.contains("clarabel"),
+            "{message}"
+        );
     }
 }
