@@ -36,16 +36,16 @@ const _: () = {
     assert_send::<Component>();
 };
 
-type fmi2Component = *mut c_void;
-type fmi2ComponentEnvironment = *mut c_void;
-type fmi2FMUstate = *mut c_void;
-type fmi2ValueReference = c_uint;
-type fmi2Real = f64;
-type fmi2Integer = c_int;
-type fmi2Boolean = c_int;
-type fmi2String = *const c_char;
-type fmi2Byte = c_char;
-type fmi2Status = c_int;
+pub type fmi2Component = *mut c_void;
+pub type fmi2ComponentEnvironment = *mut c_void;
+pub type fmi2FMUstate = *mut c_void;
+pub type fmi2ValueReference = c_uint;
+pub type fmi2Real = f64;
+pub type fmi2Integer = c_int;
+pub type fmi2Boolean = c_int;
+pub type fmi2String = *const c_char;
+pub type fmi2Byte = c_char;
+pub type fmi2Status = c_int;
 
 const FMI2_TRUE: fmi2Boolean = 1;
 const FMI2_FALSE: fmi2Boolean = 0;
@@ -57,7 +57,7 @@ const STATUS_KIND_TERMINATED: c_int = 3;
 const ERROR: fmi2Status = Status::Error as fmi2Status;
 
 /// The host's variadic logger: (environment, instance name, status, category, format, ...).
-type fmi2CallbackLogger = unsafe extern "C" fn(
+pub type fmi2CallbackLogger = unsafe extern "C" fn(
     fmi2ComponentEnvironment,
     fmi2String,
     fmi2Status,
@@ -69,11 +69,16 @@ type fmi2CallbackLogger = unsafe extern "C" fn(
 /// `fmi2CallbackFunctions` of fmi2FunctionTypes.h.
 #[repr(C)]
 pub struct fmi2CallbackFunctions {
-    logger: Option<fmi2CallbackLogger>,
-    allocate_memory: Option<unsafe extern "C" fn(size_t, size_t) -> *mut c_void>,
-    free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
-    step_finished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
-    component_environment: fmi2ComponentEnvironment,
+    /// The host's logger.
+    pub logger: Option<fmi2CallbackLogger>,
+    /// Unused: the FMU allocates with Rust's allocator (canNotUseMemoryManagementFunctions).
+    pub allocate_memory: Option<unsafe extern "C" fn(size_t, size_t) -> *mut c_void>,
+    /// Unused, as `allocate_memory`.
+    pub free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
+    /// Unused: steps are synchronous.
+    pub step_finished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
+    /// Handed back to the logger.
+    pub component_environment: fmi2ComponentEnvironment,
 }
 
 /// The host's logger callback, bound to one instance.

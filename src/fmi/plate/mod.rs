@@ -13,6 +13,7 @@ mod values;
 
 pub use snapshot::PlateSnapshot;
 
+use crate::fmi::ffi::panic_text;
 use crate::fmi::logger::{Logger, LOG_WARNING};
 use crate::fmi::model::{Model, Phase, Value};
 use crate::fmi::status::{Failure, Status};
@@ -21,6 +22,7 @@ use crate::scene::Scene;
 use crate::simulation::grid::TimeGrid;
 use crate::simulation::input::InputSample;
 use crate::simulation::{InternalStep, SetUp, Simulation};
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use values::first_non_finite;
 
 /// Log category of contact events: vertices entering or leaving contact, and the solver path.
@@ -94,17 +96,23 @@ impl PlateModel {
         if !self.current || self.simulation.is_none() {
             self.parameters.validate()?;
             check_experiment(&self.parameters, self.start_time, self.stop_time)?;
-            let set_up = match &mut self.simulation {
-                Some(sim) => sim.restart(&self.parameters, self.start_time, self.input)?,
+            let (scene, start, input) = (&self.parameters, self.start_time, self.input);
+            let simulation = &mut self.simulation;
+            // The set-up is a function of the parameters alone: a panic inside the library (a
+            // geometry the elements cannot handle) leaves the model as it was and is refused.
+            let set_up = catch_unwind(AssertUnwindSafe(|| match simulation {
+                Some(sim) => sim.restart(scene, start, input),
                 None => {
-                    self.simulation = Some(Simulation::new(
-                        &self.parameters,
-                        self.start_time,
-                        self.input,
-                    )?);
-                    SetUp::Rebuilt
+                    *simulation = Some(Simulation::new(scene, start, input)?);
+                    Ok(SetUp::Rebuilt)
                 }
-            };
+            }))
+            .map_err(|payload| {
+                Failure::refused(format!(
+                    "the plate could not be set up for these parameters ({}); check that they describe a plate the elements can mesh",
+                    panic_text(payload.as_ref())
+                ))
+            })??;
             self.full_set_ups += u64::from(set_up == SetUp::Rebuilt);
             self.current = true;
         }
