@@ -171,7 +171,7 @@ fn the_standards_table_holds_through_the_instance() {
         .unwrap()
         .to_vec();
     for mode in Mode::ALL.into_iter().filter(|m| m.reachable()) {
-        for function in Function::ALL {
+        for &function in Function::ALL {
             let mut inst = in_mode(mode);
             let result = call(&mut inst, function, &state, &bytes);
             let refused_by_table = result
@@ -280,6 +280,23 @@ fn a_step_that_overflows_is_an_error_naming_the_output() {
             assert!(x[0].is_finite(), "{} = {}", v.name, x[0]);
         }
     }
+}
+
+/// A contact problem that was not solved (under 1e308 Pa) is an error, never garbage with OK.
+#[test]
+fn a_free_corner_past_an_obstacle_is_an_error() {
+    let (mut inst, _) = initialized();
+    inst.set_real(&[vr::LOAD_PRESSURE], &[1e308]).unwrap();
+    let err = inst.do_step(0.0, 1e-4).unwrap_err();
+    assert!(
+        err.message.contains("past the obstacle") || err.message.contains("not finite"),
+        "{}",
+        err.message
+    );
+    assert_eq!(inst.finish(Function::DoStep, Err(err)), Status::Error);
+    assert!(inst
+        .get_real(&[vr::CORNER1_DISPLACEMENT], &mut [0.0])
+        .is_err());
 }
 
 /// The bytes of `inst`'s state with the JSON field at `path` replaced by the JSON text `value`

@@ -23,7 +23,7 @@ use crate::simulation::grid::TimeGrid;
 use crate::simulation::input::InputSample;
 use crate::simulation::{InternalStep, SetUp, Simulation};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use values::first_non_finite;
+use values::{first_non_finite, first_past_obstacle};
 
 /// Log category of contact events: vertices entering or leaving contact, and the solver path.
 pub const LOG_CONTACT: &str = "logContact";
@@ -151,11 +151,21 @@ fn report_internal_step(log: &mut Logger, step: &InternalStep) {
     }
 }
 
-/// The message of an output that is not finite.
-fn non_finite_message(name: &str, value: f64, time: f64) -> String {
-    format!(
-        "the output {name} = {value} at t = {time} s is not finite: the simulation overflowed (a base displacement or load far beyond the plate's scale?)"
-    )
+/// Why the outputs of `sim` may not be reported with fmi2OK, if they may not: an output that is
+/// not finite (the simulation overflowed), or a free corner past an obstacle (a contact problem
+/// that was not solved, such as under a pressure of 1e308 Pa).
+fn unsound_outputs(sim: &Simulation) -> Option<String> {
+    let (outputs, t) = (sim.outputs(), sim.time());
+    if let Some((name, x)) = first_non_finite(outputs) {
+        return Some(format!(
+            "the output {name} = {x} at t = {t} s is not finite: the simulation overflowed (a base displacement or load far beyond the plate's scale?)"
+        ));
+    }
+    first_past_obstacle(outputs, sim.scene()).map(|(name, u, g)| {
+        format!(
+            "the output {name} = {u} m at t = {t} s lies past the obstacle at {g} m: the contact problem was not solved (a load or base displacement far beyond the plate's scale?)"
+        )
+    })
 }
 
 impl Model for PlateModel {
@@ -197,8 +207,8 @@ impl Model for PlateModel {
 
     fn exit_initialization(&mut self) -> Result<(), Failure> {
         let sim = self.ensure_simulation()?;
-        match first_non_finite(sim.outputs()) {
-            Some((name, x)) => Err(Failure::refused(non_finite_message(name, x, sim.time()))),
+        match unsound_outputs(sim) {
+            Some(message) => Err(Failure::refused(message)),
             None => Ok(()),
         }
     }
@@ -218,13 +228,10 @@ impl Model for PlateModel {
                 } else {
                     self.running_simulation()?
                 };
-                let value = values::output(sim.outputs(), v)?;
-                match value {
-                    Value::Real(x) if !x.is_finite() => {
-                        Err(Failure::refused(non_finite_message(v.name, x, sim.time())))
-                    }
-                    _ => Ok(value),
+                if let Some(message) = unsound_outputs(sim) {
+                    return Err(Failure::refused(message));
                 }
+                values::output(sim.outputs(), v)
             }
             Causality::Input => Ok(Value::Real(self.input)),
             _ => values::parameter(&self.parameters, v),
@@ -350,10 +357,9 @@ impl Model for PlateModel {
                 "the step from t = {now} s failed at t = {at} s: {e}. The instance is now in the Error state: restore an FMU state, or reset"
             ))
         })?;
-        if let Some((name, x)) = first_non_finite(sim.outputs()) {
+        if let Some(message) = unsound_outputs(sim) {
             return Err(Failure::broken(format!(
-                "{}. The instance is now in the Error state: restore an FMU state, or reset",
-                non_finite_message(name, x, at)
+                "{message}. The instance is now in the Error state: restore an FMU state, or reset"
             )));
         }
         self.input_derivatives = [None, None];
@@ -392,8 +398,7 @@ impl Model for PlateModel {
                     Some(sim) if sim.scene().fixed_part() == fixed => {
                         let old = sim.state();
                         sim.restore(state)?;
-                        if let Some((name, x)) = first_non_finite(sim.outputs()) {
-                            let message = non_finite_message(name, x, sim.time());
+                        if let Some(message) = unsound_outputs(sim) {
                             sim.restore(&old).map_err(|e| {
                                 Failure::broken(format!(
                                     "{message}; restoring the previous state failed too: {e}"
@@ -406,8 +411,7 @@ impl Model for PlateModel {
                     }
                     _ => {
                         let sim = Simulation::from_state(state)?;
-                        if let Some((name, x)) = first_non_finite(sim.outputs()) {
-                            let message = non_finite_message(name, x, sim.time());
+                        if let Some(message) = unsound_outputs(&sim) {
                             return Err(Failure::refused(format!(
                                 "the FMU state is refused: {message}"
                             )));

@@ -8,7 +8,7 @@ use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
 use crate::fmi::variables::{vr, Kind, Variable};
 use crate::scene::Scene;
-use crate::simulation::Outputs;
+use crate::simulation::{Outputs, BOUND_TOLERANCE};
 
 /// The integer code of `mesh.element` for each element family.
 pub fn element_code(kind: ElementKind) -> i32 {
@@ -141,6 +141,27 @@ pub fn first_non_finite(outputs: &Outputs) -> Option<(&'static str, f64)> {
     ]
     .into_iter()
     .find(|(_, x)| !x.is_finite())
+}
+
+/// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
+/// more than [`BOUND_TOLERANCE`] of the gap, as (variable name, value, obstacle level). With
+/// restitution e > 0 the bound holds for (u_{n+1} + e u_{n−1})/(1 + e), not for u: no check then.
+pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static str, f64, f64)> {
+    if scene.solver.restitution != 0.0 {
+        return None;
+    }
+    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+    let tolerance = BOUND_TOLERANCE * (upper.unwrap_or(1.0) - lower.unwrap_or(-1.0));
+    [
+        ("corner1.displacement", outputs.corner1),
+        ("corner2.displacement", outputs.corner2),
+    ]
+    .into_iter()
+    .find_map(|(name, u)| {
+        let below = lower.filter(|&g| u < g - tolerance);
+        let above = upper.filter(|&g| u > g + tolerance);
+        below.or(above).map(|g| (name, u, g))
+    })
 }
 
 #[cfg(test)]

@@ -1,4 +1,5 @@
-//! Random FMI 2.0 call sequences through the exported C functions, as a host would make them:
+//! The exported C functions, called as a host would call them: null pointers and garbage, then
+//! random FMI 2.0 call sequences:
 //! good and bad values, calls in every state, FMU states saved, serialized, corrupted and
 //! restored. Oracles, after every call:
 //! * no crash and no hang (small meshes, at most a few hundred internal steps per call);
@@ -8,7 +9,7 @@
 //!   with its status, the call state, the serialized FMU state), or was a failed fmi2DoStep that
 //!   put the instance in the Error state.
 //!
-//! `PROPTEST_CASES=1000 cargo test --release --test fmi_call_sequences` runs a longer search.
+//! `PROPTEST_CASES=1000 cargo test --release --test fmi_c_api` runs a longer search.
 
 use plate_impact::fmi::fmi2::exports::*;
 use plate_impact::fmi::variables::{vr, Kind, GUID, VARIABLES};
@@ -433,5 +434,75 @@ proptest! {
         if std::env::var_os("CALL_SEQUENCES_VERBOSE").is_some() {
             eprintln!("{} calls, {steps} steps taken", prefix.len() + ops.len());
         }
+    }
+}
+
+/// Null pointers and garbage are errors, not crashes.
+#[test]
+fn null_pointers_and_garbage_are_errors_not_crashes() {
+    // SAFETY: every pointer passed is null, dangling-free, or a valid local.
+    unsafe {
+        assert!(fmi2Instantiate(
+            std::ptr::null(),
+            1,
+            std::ptr::null(),
+            std::ptr::null(),
+            std::ptr::null(),
+            0,
+            0
+        )
+        .is_null());
+        assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 0), ERROR);
+        let host = Host::new();
+        let c = host.c;
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), 0);
+        assert_eq!(fmi2EnterInitializationMode(c), 0);
+        assert_eq!(fmi2ExitInitializationMode(c), 0);
+        assert_eq!(
+            fmi2GetReal(c, std::ptr::null(), 1, std::ptr::null_mut()),
+            ERROR
+        );
+        assert_eq!(fmi2GetReal(c, std::ptr::null(), 0, std::ptr::null_mut()), 0);
+        let refs = [vr::CORNER1_DISPLACEMENT];
+        let mut out = [f64::NAN];
+        assert_eq!(fmi2GetReal(c, refs.as_ptr(), 1, out.as_mut_ptr()), 0);
+        assert_eq!(out[0], 0.0);
+        assert_eq!(fmi2GetFMUstate(c, std::ptr::null_mut()), ERROR);
+        let garbage = [7u8; 64];
+        let mut state: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(c, garbage.as_ptr() as *const fmi2Byte, 64, &mut state),
+            ERROR
+        );
+        assert!(state.is_null());
+        assert_eq!(
+            fmi2DeSerializeFMUstate(c, std::ptr::null(), 10, &mut state),
+            ERROR
+        );
+        assert_eq!(fmi2GetFMUstate(c, &mut state), 0);
+        let mut size: usize = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(c, state, &mut size), 0);
+        let mut bytes = vec![0 as fmi2Byte; size];
+        assert_eq!(
+            fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size - 1),
+            ERROR
+        );
+        assert_eq!(fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size), 0);
+        let mut copy: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(c, bytes.as_ptr(), size, &mut copy),
+            0
+        );
+        assert_eq!(fmi2SetFMUstate(c, copy), 0);
+        assert_eq!(fmi2SetFMUstate(c, std::ptr::null_mut()), ERROR);
+        assert_eq!(fmi2FreeFMUstate(c, &mut state), 0);
+        assert_eq!(fmi2FreeFMUstate(c, &mut copy), 0);
+        assert!(state.is_null() && copy.is_null());
+        assert_eq!(fmi2CancelStep(c), ERROR);
+        let mut t = -1.0;
+        assert_eq!(fmi2GetRealStatus(c, 2, &mut t), 0);
+        assert_eq!(t, 0.0);
+        assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 0), 0);
+        fmi2FreeInstance(std::ptr::null_mut());
     }
 }
