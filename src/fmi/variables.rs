@@ -82,11 +82,6 @@ pub struct Variable {
 
 include!(concat!(env!("OUT_DIR"), "/model_description.rs"));
 
-/// The variable with value reference `vr`, if any.
-pub fn by_vr(vr: u32) -> Option<&'static Variable> {
-    VARIABLES.iter().find(|v| v.vr == vr)
-}
-
 /// The variable named `name`, if any.
 pub fn by_name(name: &str) -> Option<&'static Variable> {
     VARIABLES.iter().find(|v| v.name == name)
