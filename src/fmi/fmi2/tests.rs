@@ -552,6 +552,28 @@ fn state_round_trip_is_bit_identical() {
     assert_eq!(run(&mut fresh), first);
 }
 
+/// fmpy asks for the size, then for the bytes: the state is encoded once.
+#[test]
+fn a_state_is_encoded_once_per_save() {
+    let (mut inst, _) = initialized();
+    let state = inst.get_state().unwrap();
+    let size = inst
+        .serialized(Function::SerializedFMUstateSize, &state)
+        .unwrap();
+    let bytes = inst
+        .serialized(Function::SerializeFMUstate, &state)
+        .unwrap();
+    assert!(
+        std::ptr::eq(size, bytes),
+        "the second call re-encoded the state"
+    );
+    let again = inst.get_state().unwrap();
+    let fresh = inst
+        .serialized(Function::SerializeFMUstate, &again)
+        .unwrap();
+    assert_eq!(fresh, bytes, "encoding is deterministic");
+}
+
 #[test]
 fn base_outside_the_gap_is_an_error_then_reset_recovers() {
     let (mut inst, messages) = initialized();
