@@ -1,7 +1,8 @@
 //! Reads `modelDescription/modelDescription.xml` (the single source of truth for the FMU's
-//! variables, SPEC §5), checks it and writes `$OUT_DIR/model_description.rs`: the value references
-//! and the variable table used by `src/fmi/`. An inconsistent description fails the build with a
-//! message naming the variable at fault.
+//! variables; the contract is `docs/fmu.md`), checks it and writes
+//! `$OUT_DIR/model_description.rs`: the value references and the variable table used by
+//! `src/fmi/`. An inconsistent description fails the build with a message naming the variable at
+//! fault.
 
 #[path = "build/model_description.rs"]
 mod model_description;

@@ -279,25 +279,58 @@ impl Scene {
         Scene::from_json(text)
     }
 
-    /// Sets one parameter by its dotted FMU-style name (`mesh.nx`, `solver.qp`, `stop_time`…) from
-    /// text: numbers, booleans and enumeration names are accepted as they would be written in JSON
-    /// (enumerations without quotes). The scene is validated afterwards.
-    pub fn set(&mut self, key: &str, value: &str) -> Result<(), Error> {
-        let mut tree = serde_json::to_value(&*self).expect("a scene always serializes");
+    /// The value of one parameter by its dotted name (`plate.length`, `mesh.element`, `stop_time`…),
+    /// as it appears in the scene's JSON. This and [`Scene::with`] are the crate's only dotted-path
+    /// access to a scene: the FMU's variable binding, [`Scene::set`] and the examples go through them.
+    pub fn get(&self, key: &str) -> Result<serde_json::Value, Error> {
+        let mut tree = serde_json::to_value(self).expect("a scene always serializes");
+        for part in key.split('.') {
+            tree = tree
+                .get_mut(part)
+                .map(serde_json::Value::take)
+                .ok_or_else(|| Error::invalid(key, "?", "is not a scene parameter"))?;
+        }
+        Ok(tree)
+    }
+
+    /// A copy of the scene with one parameter replaced by a JSON value. The type is checked (serde),
+    /// the range is not: call [`Scene::validate`] on the result.
+    pub fn with(&self, key: &str, value: serde_json::Value) -> Result<Scene, Error> {
+        let text = value.to_string();
+        let mut tree = serde_json::to_value(self).expect("a scene always serializes");
         let mut slot = &mut tree;
         for part in key.split('.') {
             slot = slot
                 .get_mut(part)
-                .ok_or_else(|| Error::invalid(key, value, "is not a scene parameter"))?;
+                .ok_or_else(|| Error::invalid(key, &text, "is not a scene parameter"))?;
         }
+        *slot = value;
+        serde_json::from_value(tree)
+            .map_err(|e| Error::invalid(key, &text, &format!("has the wrong type ({e})")))
+    }
+
+    /// Sets one parameter by its dotted FMU-style name (`mesh.nx`, `solver.qp`, `stop_time`…) from
+    /// text: numbers, booleans and enumeration names are accepted as they would be written in JSON
+    /// (enumerations without quotes). The scene is validated afterwards.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), Error> {
         let parsed = serde_json::from_str(value)
             .unwrap_or_else(|_| serde_json::Value::String(value.to_string()));
-        *slot = parsed;
-        let updated: Scene = serde_json::from_value(tree)
-            .map_err(|e| Error::invalid(key, value, &format!("has the wrong type ({e})")))?;
+        let updated = self.with(key, parsed)?;
         updated.validate()?;
         *self = updated;
         Ok(())
+    }
+
+    /// The scene with what may change during a run neutralised: the tunable obstacle levels and
+    /// load pressure, and the horizon `stop_time`. Two simulations whose fixed parts are equal
+    /// assemble the same plate and may exchange states.
+    pub fn fixed_part(&self) -> Scene {
+        let mut s = self.clone();
+        s.obstacle.lower = 0.0;
+        s.obstacle.upper = 0.0;
+        s.load.pressure = 0.0;
+        s.stop_time = 0.0;
+        s
     }
 
     /// Bending stiffness D = E e³ / (12 (1 − ν²)) (N·m).

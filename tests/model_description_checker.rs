@@ -118,14 +118,38 @@ fn undeclared_unit() {
 }
 
 #[test]
-fn enumeration_start_not_an_item() {
+fn integer_start_outside_min_max() {
     rejected(
         &broken(
-            r#"<Enumeration declaredType="ElementKind" start="1"/>"#,
-            r#"<Enumeration declaredType="ElementKind" start="3"/>"#,
+            r#"<Integer start="1" min="1" max="2"/>"#,
+            r#"<Integer start="3" min="1" max="2"/>"#,
         ),
-        &["mesh.element", "not an item"],
+        &["mesh.element", "outside"],
     );
+}
+
+/// The shipped description has no enumeration (engines such as libcosim and Ecos ignore them),
+/// but the checker still handles one: mesh.element declared as one, with a start that is no item.
+#[test]
+fn enumeration_start_not_an_item() {
+    let types = r#"<TypeDefinitions>
+    <SimpleType name="ElementKind">
+      <Enumeration>
+        <Item name="argyris" value="1"/>
+        <Item name="fvs" value="2"/>
+      </Enumeration>
+    </SimpleType>
+  </TypeDefinitions>
+  <LogCategories>"#;
+    let with_types = broken("<LogCategories>", types);
+    let declared = |start: &str| {
+        with_types.replace(
+            r#"<Integer start="1" min="1" max="2"/>"#,
+            &format!(r#"<Enumeration declaredType="ElementKind" start="{start}"/>"#),
+        )
+    };
+    check(&declared("2")).expect("an enumeration with a valid start");
+    rejected(&declared("3"), &["mesh.element", "not an item"]);
 }
 
 #[test]

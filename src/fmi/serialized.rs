@@ -8,13 +8,15 @@
 //! | 4 | format version ([`FORMAT_VERSION`]) |
 //! | 2 + n | length and UTF-8 text of the crate version that wrote it |
 //! | 8 + m | length and the payload: the state as JSON (serde_json, `float_roundtrip`) |
-//! | 8 | FNV-1a 64 checksum of everything before it |
+//! | 4 | CRC-32 (IEEE 802.3, as zlib's `crc32`) of everything before it |
 //!
 //! Decoding checks every field and returns an error naming the first that does not match; it never
-//! trusts a length before checking it against the bytes at hand. JSON keeps the payload readable
-//! for debugging, and with serde_json's `float_roundtrip` feature every finite f64 reads back
-//! bit-identically (ryu writes the shortest text that parses to the same bits, and the feature
-//! makes the parser exact).
+//! trusts a length before checking it against the bytes at hand. The checksum detects corruption
+//! only: a buffer with a matching checksum may still be foreign or crafted, so the FMU validates
+//! every decoded field as untrusted input afterwards. JSON keeps the payload readable for
+//! debugging (and lets tests craft payloads: [`decode_json`], [`encode_payload`]), and with
+//! serde_json's `float_roundtrip` feature every finite f64 reads back bit-identically (ryu writes
+//! the shortest text that parses to the same bits, and the feature makes the parser exact).
 
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -22,34 +24,31 @@ use serde::Serialize;
 /// First bytes of every serialized state.
 pub const MAGIC: [u8; 8] = *b"PLIMPST\0";
 /// Version of this layout and of the payload's structure; bump when either changes.
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 /// The crate version written into (and required from) a serialized state.
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
-
-/// FNV-1a, 64 bits: detects accidental corruption (not an authentication code).
-pub fn fnv1a64(bytes: &[u8]) -> u64 {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        hash ^= u64::from(b);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    hash
-}
 
 /// Encodes `value` in the layout above.
 pub fn encode<T: Serialize>(value: &T) -> Result<Vec<u8>, String> {
     let payload =
         serde_json::to_vec(value).map_err(|e| format!("cannot serialize the FMU state: {e}"))?;
+    Ok(encode_payload(&payload))
+}
+
+/// The bytes of the layout around a payload given as JSON text, with a fresh checksum. [`encode`]
+/// uses it; tests use it to craft states: a buffer that passes every framing check and carries
+/// whatever payload the test wants.
+pub fn encode_payload(payload: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(payload.len() + 48);
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
     out.extend_from_slice(&(CRATE_VERSION.len() as u16).to_le_bytes());
     out.extend_from_slice(CRATE_VERSION.as_bytes());
     out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    out.extend_from_slice(&payload);
-    let sum = fnv1a64(&out);
+    out.extend_from_slice(payload);
+    let sum = crc32fast::hash(&out);
     out.extend_from_slice(&sum.to_le_bytes());
-    Ok(out)
+    out
 }
 
 /// A cursor that refuses to read past the end.
@@ -79,6 +78,17 @@ impl<'a> Reader<'a> {
 
 /// Decodes bytes written by [`encode`], checking magic, versions, lengths and checksum.
 pub fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
+    serde_json::from_slice(payload(bytes)?)
+        .map_err(|e| format!("serialized FMU state has an invalid payload: {e}"))
+}
+
+/// The payload of a serialized state as a JSON tree (for inspecting or crafting states in tests).
+pub fn decode_json(bytes: &[u8]) -> Result<serde_json::Value, String> {
+    decode(bytes)
+}
+
+/// The payload of a serialized state, after every framing check.
+fn payload(bytes: &[u8]) -> Result<&[u8], String> {
     let mut r = Reader { bytes, at: 0 };
     if r.take(8, "the magic number")? != MAGIC {
         return Err(
@@ -103,18 +113,17 @@ pub fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
     let m = usize::try_from(m).map_err(|_| "serialized FMU state: payload length overflows")?;
     let payload = r.take(m, "the payload")?;
     let body_end = r.at;
-    let sum = u64::from_le_bytes(r.take(8, "the checksum")?.try_into().unwrap());
+    let sum = u32::from_le_bytes(r.take(4, "the checksum")?.try_into().unwrap());
     if r.at != bytes.len() {
         return Err(format!(
             "serialized FMU state has {} trailing bytes",
             bytes.len() - r.at
         ));
     }
-    if fnv1a64(&bytes[..body_end]) != sum {
+    if crc32fast::hash(&bytes[..body_end]) != sum {
         return Err("serialized FMU state is corrupt (checksum mismatch)".into());
     }
-    serde_json::from_slice(payload)
-        .map_err(|e| format!("serialized FMU state has an invalid payload: {e}"))
+    Ok(payload)
 }
 
 #[cfg(test)]
@@ -161,5 +170,16 @@ mod tests {
         longer.push(0);
         assert!(decode::<Vec<f64>>(&longer).is_err());
         assert!(decode::<Vec<f64>>(&[]).is_err());
+    }
+
+    #[test]
+    fn crafted_payloads_pass_the_framing_checks() {
+        let bytes = encode(&vec![1.0f64, 2.0]).unwrap();
+        let mut tree = decode_json(&bytes).unwrap();
+        tree[1] = serde_json::json!(-1e308);
+        let crafted = encode_payload(&serde_json::to_vec(&tree).unwrap());
+        assert_eq!(decode::<Vec<f64>>(&crafted).unwrap(), [1.0, -1e308]);
+        // The checksum is zlib's CRC-32, so Python can craft states too.
+        assert_eq!(crc32fast::hash(b"123456789"), 0xcbf4_3926);
     }
 }

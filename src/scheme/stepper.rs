@@ -718,12 +718,10 @@ impl Stepper {
             if let Some(outside) = first_outside(&state.scene, u, tolerance).filter(|_| bounded) {
                 return Err(Error::invalid_state(
                     &format!("{field}[vertex {}]", outside.vertex),
-                    format!("<u = {} m>", outside.value),
+                    format!("<u = {:?} m>", outside.value),
                     &format!(
-                        "must put every constrained vertex within the obstacles [{:?}, {:?}] m, \
-                         to {tolerance:e} m",
-                        state.scene.lower_obstacle(),
-                        state.scene.upper_obstacle()
+                        "must put every constrained vertex within the obstacles ({}), to {tolerance:e} m",
+                        obstacle_levels(&state.scene)
                     ),
                 ));
             }
@@ -853,4 +851,16 @@ fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
             upper,
         })
     }
+}
+
+/// The enabled obstacle levels, for messages: "lower −0.01 m, upper 0.01 m".
+fn obstacle_levels(scene: &Scene) -> String {
+    let levels: Vec<String> = [
+        ("lower", scene.lower_obstacle()),
+        ("upper", scene.upper_obstacle()),
+    ]
+    .into_iter()
+    .filter_map(|(name, g)| g.map(|g| format!("{name} {g} m")))
+    .collect();
+    levels.join(", ")
 }

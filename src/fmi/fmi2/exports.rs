@@ -1,28 +1,51 @@
-//! The exported FMI 2.0 Co-Simulation C functions: the only unsafe code of the crate.
+//! The exported FMI 2.0 Co-Simulation C functions: the only unsafe code of the crate, as thin as
+//! possible.
 //!
 //! Each function checks its pointers (a null instance returns fmi2Error; a null array with a
 //! non-zero length is reported through the logger), runs the safe [`Instance`] method inside
 //! `catch_unwind` so that no panic crosses the C boundary, and returns its status. An
-//! `fmi2Component` is a `Box<Instance>` and an `fmi2FMUstate` a `Box<Snapshot>`, both turned into
-//! raw pointers that the importer hands back; FMI forbids using them after they are freed.
+//! `fmi2Component` is a `Box<Component>` and an `fmi2FMUstate` a `Box<StoredState>`, both turned
+//! into raw pointers that the host hands back; FMI forbids using them after they are freed.
+//!
+//! # Safety
+//! Every function requires what the FMI 2.0 standard requires of its caller: an `fmi2Component`
+//! returned by fmi2Instantiate and not yet freed, used by one thread at a time; arrays valid for
+//! the lengths passed; NUL-terminated strings; `fmi2FMUstate` values this library allocated and
+//! that were not freed. The functions are public so that tests can drive them as a host would.
 
-#![allow(non_snake_case, non_camel_case_types)]
+// The names are the standard's; the safety contract is stated once above, not per function.
+#![allow(non_snake_case, non_camel_case_types, clippy::missing_safety_doc)]
 
-use super::instance::{Failure, Instance, LogSink, Snapshot, Status};
+use super::call_state::Function;
+use super::instance::{Instance, StoredState};
+use crate::fmi::ffi::{c_str, null_argument, panic_text, slice, slice_mut};
+use crate::fmi::logger::{LogSink, LOG_ERROR};
+use crate::fmi::plate::PlateModel;
+use crate::fmi::status::{Failure, Status};
 use libc::{c_char, c_int, c_uint, c_void, size_t};
-use std::ffi::{CStr, CString};
+use std::ffi::CString;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-type fmi2Component = *mut c_void;
-type fmi2ComponentEnvironment = *mut c_void;
-type fmi2FMUstate = *mut c_void;
-type fmi2ValueReference = c_uint;
-type fmi2Real = f64;
-type fmi2Integer = c_int;
-type fmi2Boolean = c_int;
-type fmi2String = *const c_char;
-type fmi2Byte = c_char;
-type fmi2Status = c_int;
+/// The instance type behind an `fmi2Component`: the generic FMI 2.0 instance driving the plate.
+pub type Component = Instance<PlateModel>;
+/// What an `fmi2FMUstate` points to.
+type State = StoredState<PlateModel>;
+
+const _: () = {
+    const fn assert_send<T: Send>() {}
+    assert_send::<Component>();
+};
+
+pub type fmi2Component = *mut c_void;
+pub type fmi2ComponentEnvironment = *mut c_void;
+pub type fmi2FMUstate = *mut c_void;
+pub type fmi2ValueReference = c_uint;
+pub type fmi2Real = f64;
+pub type fmi2Integer = c_int;
+pub type fmi2Boolean = c_int;
+pub type fmi2String = *const c_char;
+pub type fmi2Byte = c_char;
+pub type fmi2Status = c_int;
 
 const FMI2_TRUE: fmi2Boolean = 1;
 const FMI2_FALSE: fmi2Boolean = 0;
@@ -34,7 +57,7 @@ const STATUS_KIND_TERMINATED: c_int = 3;
 const ERROR: fmi2Status = Status::Error as fmi2Status;
 
 /// The host's variadic logger: (environment, instance name, status, category, format, ...).
-type fmi2CallbackLogger = unsafe extern "C" fn(
+pub type fmi2CallbackLogger = unsafe extern "C" fn(
     fmi2ComponentEnvironment,
     fmi2String,
     fmi2Status,
@@ -46,11 +69,16 @@ type fmi2CallbackLogger = unsafe extern "C" fn(
 /// `fmi2CallbackFunctions` of fmi2FunctionTypes.h.
 #[repr(C)]
 pub struct fmi2CallbackFunctions {
-    logger: Option<fmi2CallbackLogger>,
-    allocate_memory: Option<unsafe extern "C" fn(size_t, size_t) -> *mut c_void>,
-    free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
-    step_finished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
-    component_environment: fmi2ComponentEnvironment,
+    /// The host's logger.
+    pub logger: Option<fmi2CallbackLogger>,
+    /// Unused: the FMU allocates with Rust's allocator (canNotUseMemoryManagementFunctions).
+    pub allocate_memory: Option<unsafe extern "C" fn(size_t, size_t) -> *mut c_void>,
+    /// Unused, as `allocate_memory`.
+    pub free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
+    /// Unused: steps are synchronous.
+    pub step_finished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
+    /// Handed back to the logger.
+    pub component_environment: fmi2ComponentEnvironment,
 }
 
 /// The host's logger callback, bound to one instance.
@@ -90,77 +118,19 @@ fn to_cstring(s: &str) -> CString {
     CString::new(s.replace('\0', "\\0")).expect("NULs were replaced")
 }
 
-/// Reads a C string argument; `None` if the pointer is null.
-///
-/// # Safety
-/// `p` must be null or point to a NUL-terminated string valid for the call (FMI requires this).
-unsafe fn c_str<'a>(p: fmi2String) -> Option<std::borrow::Cow<'a, str>> {
-    if p.is_null() {
-        None
-    } else {
-        // SAFETY: non-null, and NUL-terminated by the caller's contract.
-        Some(unsafe { CStr::from_ptr(p) }.to_string_lossy())
-    }
-}
-
-/// A slice from a C array of `n` elements; an empty slice for n = 0 whatever the pointer.
-///
-/// # Safety
-/// `p` must be null or point to `n` initialised elements valid for the call.
-unsafe fn slice<'a, T>(p: *const T, n: size_t, what: &str) -> Result<&'a [T], Failure> {
-    if n == 0 {
-        Ok(&[])
-    } else if p.is_null() {
-        Err(null_argument(what))
-    } else {
-        // SAFETY: non-null and, by the caller's contract, valid for `n` elements.
-        Ok(unsafe { std::slice::from_raw_parts(p, n) })
-    }
-}
-
-/// A mutable slice from a C array of `n` elements.
-///
-/// # Safety
-/// `p` must be null or point to `n` writable elements valid for the call, not aliased.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: size_t, what: &str) -> Result<&'a mut [T], Failure> {
-    if n == 0 {
-        Ok(&mut [])
-    } else if p.is_null() {
-        Err(null_argument(what))
-    } else {
-        // SAFETY: non-null and, by the caller's contract, valid and unaliased for `n` elements.
-        Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
-    }
-}
-
-fn null_argument(what: &str) -> Failure {
-    Failure {
-        status: Status::Error,
-        message: format!("the argument {what} is a null pointer"),
-    }
-}
-
-fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".into())
-}
-
-/// Runs `body` on the instance behind `c`: null check, panic barrier, logging of failures.
+/// Runs `body` on the instance behind `c`: null check, panic barrier, status and logging.
 fn call(
     c: fmi2Component,
-    function: &str,
-    body: impl FnOnce(&mut Instance) -> Result<(), Failure>,
+    function: Function,
+    body: impl FnOnce(&mut Component) -> Result<Status, Failure>,
 ) -> fmi2Status {
     if c.is_null() {
         return ERROR;
     }
     // SAFETY: a non-null fmi2Component is, by the FMI contract, a pointer this library returned
-    // from fmi2Instantiate (Box::into_raw) and not yet passed to fmi2FreeInstance; the importer
-    // does not call one instance from two threads at once, so this is the only reference.
-    let inst = unsafe { &mut *(c as *mut Instance) };
+    // from fmi2Instantiate (Box::into_raw) and not yet passed to fmi2FreeInstance; the host does
+    // not call one instance from two threads at once, so this is the only reference.
+    let inst = unsafe { &mut *(c as *mut Component) };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         let result = body(&mut *inst);
         inst.finish(function, result)
@@ -170,21 +140,50 @@ fn call(
         Err(payload) => {
             let text = panic_text(payload.as_ref());
             catch_unwind(AssertUnwindSafe(|| {
+                let failure = Failure::broken(format!(
+                    "internal error ({text}); the instance is now in the Error state: restore an FMU state, reset or free it"
+                ));
                 inst.set_error_mode();
-                inst.finish(
-                    function,
-                    Err(Failure {
-                        status: Status::Error,
-                        message: format!(
-                            "internal error ({text}); the instance is now in the Error state: restore an FMU state, reset or free it"
-                        ),
-                    }),
-                )
+                inst.finish(function, Err(failure))
             }))
             .unwrap_or(Status::Error)
         }
     };
     status as fmi2Status
+}
+
+/// A call that returns nothing but its success.
+fn done(result: Result<(), Failure>) -> Result<Status, Failure> {
+    result.map(|()| Status::Ok)
+}
+
+/// Stores `state` in the host's fmi2FMUstate variable: a new box if it is null, else in place.
+///
+/// # Safety
+/// `slot` must point to the host's fmi2FMUstate variable, holding null or a live state of this
+/// library (FMI: a non-null state is updated).
+unsafe fn store(slot: *mut fmi2FMUstate, state: State) {
+    // SAFETY: by the function's contract.
+    unsafe {
+        let slot = &mut *slot;
+        if slot.is_null() {
+            *slot = Box::into_raw(Box::new(state)) as fmi2FMUstate;
+        } else {
+            *(*slot as *mut State) = state;
+        }
+    }
+}
+
+/// The state behind a non-null fmi2FMUstate.
+///
+/// # Safety
+/// `state` must be null or a live state allocated by this library (FMI contract); it is only read.
+unsafe fn stored<'a>(state: fmi2FMUstate) -> Result<&'a State, Failure> {
+    if state.is_null() {
+        return Err(null_argument("FMUstate"));
+    }
+    // SAFETY: non-null, and by the contract a live `State` of this library.
+    Ok(unsafe { &*(state as *const State) })
 }
 
 #[no_mangle]
@@ -204,7 +203,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     n_categories: size_t,
     categories: *const fmi2String,
 ) -> fmi2Status {
-    call(c, "fmi2SetDebugLogging", |inst| {
+    call(c, Function::SetDebugLogging, |inst| {
         // SAFETY: FMI passes `n_categories` string pointers (the array may be null when 0).
         let pointers = unsafe { slice(categories, n_categories, "categories") }?;
         let mut names = Vec::with_capacity(pointers.len());
@@ -214,7 +213,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
             names.push(name.into_owned());
         }
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        inst.set_debug_logging(logging_on != FMI2_FALSE, &refs)
+        done(inst.set_debug_logging(logging_on != FMI2_FALSE, &refs))
     })
 }
 
@@ -246,7 +245,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         });
         let report = |host: &Option<HostLogger>, message: &str| {
             if let Some(h) = host {
-                h.send(Status::Error, "logStatusError", message);
+                h.send(Status::Error, LOG_ERROR, message);
             }
         };
         if name.is_empty() {
@@ -272,11 +271,11 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 h.send(status, category, message)
             }) as LogSink
         });
-        match Instance::new(&name, &guid, logging_on != FMI2_FALSE, sink) {
+        match Component::new(&name, &guid, logging_on != FMI2_FALSE, sink) {
             Ok(inst) => Box::into_raw(Box::new(inst)) as fmi2Component,
             Err((sink, message)) => {
                 if let Some(mut sink) = sink {
-                    sink(Status::Error, "logStatusError", &message);
+                    sink(Status::Error, LOG_ERROR, &message);
                 }
                 std::ptr::null_mut()
             }
@@ -292,7 +291,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     }
     // SAFETY: `c` came from Box::into_raw in fmi2Instantiate and FMI forbids using it after this
     // call, so ownership returns to a Box exactly once.
-    let inst = unsafe { Box::from_raw(c as *mut Instance) };
+    let inst = unsafe { Box::from_raw(c as *mut Component) };
     let _ = catch_unwind(AssertUnwindSafe(move || drop(inst)));
 }
 
@@ -305,34 +304,34 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     stop_time_defined: fmi2Boolean,
     stop_time: fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2SetupExperiment", |inst| {
+    call(c, Function::SetupExperiment, |inst| {
         let stop = (stop_time_defined != FMI2_FALSE).then_some(stop_time);
-        inst.setup_experiment(start_time, stop)
+        done(inst.setup_experiment(start_time, stop))
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2EnterInitializationMode", |inst| {
-        inst.enter_initialization_mode()
+    call(c, Function::EnterInitializationMode, |inst| {
+        done(inst.enter_initialization_mode())
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2ExitInitializationMode", |inst| {
-        inst.exit_initialization_mode()
+    call(c, Function::ExitInitializationMode, |inst| {
+        done(inst.exit_initialization_mode())
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2Terminate", |inst| inst.terminate())
+    call(c, Function::Terminate, |inst| done(inst.terminate()))
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2Reset", |inst| inst.reset())
+    call(c, Function::Reset, |inst| done(inst.reset()))
 }
 
 #[no_mangle]
@@ -342,10 +341,10 @@ pub unsafe extern "C" fn fmi2GetReal(
     nvr: size_t,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2GetReal", |inst| {
+    call(c, Function::GetReal, |inst| {
         // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
         let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice_mut(value, nvr, "value")?) };
-        inst.get_real(vr, value)
+        done(inst.get_real(vr, value))
     })
 }
 
@@ -356,10 +355,10 @@ pub unsafe extern "C" fn fmi2GetInteger(
     nvr: size_t,
     value: *mut fmi2Integer,
 ) -> fmi2Status {
-    call(c, "fmi2GetInteger", |inst| {
+    call(c, Function::GetInteger, |inst| {
         // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
         let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice_mut(value, nvr, "value")?) };
-        inst.get_integer(vr, value)
+        done(inst.get_integer(vr, value))
     })
 }
 
@@ -370,7 +369,7 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     nvr: size_t,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
-    call(c, "fmi2GetBoolean", |inst| {
+    call(c, Function::GetBoolean, |inst| {
         // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
         let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice_mut(value, nvr, "value")?) };
         let mut flags = vec![false; vr.len()];
@@ -378,7 +377,7 @@ pub unsafe extern "C" fn fmi2GetBoolean(
         for (out, f) in value.iter_mut().zip(flags) {
             *out = if f { FMI2_TRUE } else { FMI2_FALSE };
         }
-        Ok(())
+        Ok(Status::Ok)
     })
 }
 
@@ -389,10 +388,10 @@ pub unsafe extern "C" fn fmi2GetString(
     nvr: size_t,
     _value: *mut fmi2String,
 ) -> fmi2Status {
-    call(c, "fmi2GetString", |inst| {
+    call(c, Function::GetString, |inst| {
         // SAFETY: FMI passes an array of `nvr` value references.
         let vr = unsafe { slice(vr, nvr, "vr")? };
-        inst.check_string("fmi2GetString", vr)
+        done(inst.check_string(Function::GetString, vr))
     })
 }
 
@@ -403,10 +402,10 @@ pub unsafe extern "C" fn fmi2SetReal(
     nvr: size_t,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2SetReal", |inst| {
+    call(c, Function::SetReal, |inst| {
         // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
         let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice(value, nvr, "value")?) };
-        inst.set_real(vr, value)
+        done(inst.set_real(vr, value))
     })
 }
 
@@ -417,10 +416,10 @@ pub unsafe extern "C" fn fmi2SetInteger(
     nvr: size_t,
     value: *const fmi2Integer,
 ) -> fmi2Status {
-    call(c, "fmi2SetInteger", |inst| {
+    call(c, Function::SetInteger, |inst| {
         // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
         let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice(value, nvr, "value")?) };
-        inst.set_integer(vr, value)
+        done(inst.set_integer(vr, value))
     })
 }
 
@@ -431,11 +430,11 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     nvr: size_t,
     value: *const fmi2Boolean,
 ) -> fmi2Status {
-    call(c, "fmi2SetBoolean", |inst| {
+    call(c, Function::SetBoolean, |inst| {
         // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
         let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice(value, nvr, "value")?) };
         let flags: Vec<bool> = value.iter().map(|&b| b != FMI2_FALSE).collect();
-        inst.set_boolean(vr, &flags)
+        done(inst.set_boolean(vr, &flags))
     })
 }
 
@@ -446,44 +445,32 @@ pub unsafe extern "C" fn fmi2SetString(
     nvr: size_t,
     _value: *const fmi2String,
 ) -> fmi2Status {
-    call(c, "fmi2SetString", |inst| {
+    call(c, Function::SetString, |inst| {
         // SAFETY: FMI passes an array of `nvr` value references.
         let vr = unsafe { slice(vr, nvr, "vr")? };
-        inst.check_string("fmi2SetString", vr)
+        done(inst.check_string(Function::SetString, vr))
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
-    call(c, "fmi2GetFMUstate", |inst| {
+    call(c, Function::GetFMUstate, |inst| {
         if state.is_null() {
             return Err(null_argument("FMUstate"));
         }
-        let snap = inst.get_state()?;
-        // SAFETY: `state` is non-null and points to the importer's fmi2FMUstate variable; a
-        // non-null value there is a state this library allocated (FMI: it is then updated).
-        unsafe {
-            let slot = &mut *state;
-            if slot.is_null() {
-                *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
-            } else {
-                *(*slot as *mut Snapshot) = snap;
-            }
-        }
-        Ok(())
+        let snapshot = inst.get_state()?;
+        // SAFETY: `state` is non-null and points to the host's fmi2FMUstate variable.
+        unsafe { store(state, snapshot) };
+        Ok(Status::Ok)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
-    call(c, "fmi2SetFMUstate", |inst| {
-        if state.is_null() {
-            return Err(null_argument("FMUstate"));
-        }
-        // SAFETY: a non-null fmi2FMUstate is one this library allocated in fmi2GetFMUstate or
-        // fmi2DeSerializeFMUstate and that has not been freed (FMI contract); it is only read.
-        let snap = unsafe { &*(state as *const Snapshot) };
-        inst.set_state(snap)
+    call(c, Function::SetFMUstate, |inst| {
+        // SAFETY: a non-null fmi2FMUstate is a live state of this library (FMI contract).
+        let state = unsafe { stored(state) }?;
+        done(inst.set_state(state))
     })
 }
 
@@ -492,21 +479,22 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: fmi2Component,
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    call(c, "fmi2FreeFMUstate", |_inst| {
+    call(c, Function::FreeFMUstate, |inst| {
+        inst.free_state()?;
         if state.is_null() {
-            return Ok(());
+            return Ok(Status::Ok);
         }
-        // SAFETY: `state` points to the importer's fmi2FMUstate variable; a non-null value is a
-        // Box this library leaked and FMI forbids using it after this call, so it is freed once
-        // and the variable set to null.
+        // SAFETY: `state` points to the host's fmi2FMUstate variable; a non-null value is a Box
+        // this library leaked and FMI forbids using it after this call, so it is freed once and
+        // the variable set to null.
         unsafe {
             let slot = &mut *state;
             if !slot.is_null() {
-                drop(Box::from_raw(*slot as *mut Snapshot));
+                drop(Box::from_raw(*slot as *mut State));
                 *slot = std::ptr::null_mut();
             }
         }
-        Ok(())
+        Ok(Status::Ok)
     })
 }
 
@@ -516,16 +504,18 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     state: fmi2FMUstate,
     size: *mut size_t,
 ) -> fmi2Status {
-    call(c, "fmi2SerializedFMUstateSize", |inst| {
-        if state.is_null() || size.is_null() {
-            return Err(null_argument("FMUstate or size"));
+    call(c, Function::SerializedFMUstateSize, |inst| {
+        if size.is_null() {
+            return Err(null_argument("size"));
         }
-        // SAFETY: as in fmi2SetFMUstate: a live state allocated by this library, only read.
-        let snap = unsafe { &*(state as *const Snapshot) };
-        let bytes = inst.serialize_state(snap)?;
-        // SAFETY: `size` is non-null and points to the importer's size_t.
-        unsafe { *size = bytes.len() };
-        Ok(())
+        // SAFETY: a non-null fmi2FMUstate is a live state of this library (FMI contract).
+        let state = unsafe { stored(state) }?;
+        let n = inst
+            .serialized(Function::SerializedFMUstateSize, state)?
+            .len();
+        // SAFETY: `size` is non-null and points to the host's size_t.
+        unsafe { *size = n };
+        Ok(Status::Ok)
     })
 }
 
@@ -536,27 +526,21 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     serialized_state: *mut fmi2Byte,
     size: size_t,
 ) -> fmi2Status {
-    call(c, "fmi2SerializeFMUstate", |inst| {
-        if state.is_null() {
-            return Err(null_argument("FMUstate"));
-        }
-        // SAFETY: as in fmi2SetFMUstate: a live state allocated by this library, only read.
-        let snap = unsafe { &*(state as *const Snapshot) };
-        let bytes = inst.serialize_state(snap)?;
+    call(c, Function::SerializeFMUstate, |inst| {
+        // SAFETY: a non-null fmi2FMUstate is a live state of this library (FMI contract).
+        let state = unsafe { stored(state) }?;
+        let bytes = inst.serialized(Function::SerializeFMUstate, state)?;
         if size < bytes.len() {
-            return Err(Failure {
-                status: Status::Error,
-                message: format!(
-                    "the buffer holds {size} bytes, the serialized state needs {} (ask fmi2SerializedFMUstateSize)",
-                    bytes.len()
-                ),
-            });
+            return Err(Failure::refused(format!(
+                "the buffer holds {size} bytes, the serialized state needs {} (ask fmi2SerializedFMUstateSize)",
+                bytes.len()
+            )));
         }
         // SAFETY: FMI passes a writable buffer of `size` >= bytes.len() bytes.
         let out =
             unsafe { slice_mut(serialized_state as *mut u8, bytes.len(), "serializedState")? };
-        out.copy_from_slice(&bytes);
-        Ok(())
+        out.copy_from_slice(bytes);
+        Ok(Status::Ok)
     })
 }
 
@@ -567,24 +551,16 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     size: size_t,
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    call(c, "fmi2DeSerializeFMUstate", |inst| {
+    call(c, Function::DeSerializeFMUstate, |inst| {
         if state.is_null() {
             return Err(null_argument("FMUstate"));
         }
         // SAFETY: FMI passes `size` readable bytes (any content: it is checked by decode).
         let bytes = unsafe { slice(serialized_state as *const u8, size, "serializedState")? };
-        let snap = inst.deserialize_state(bytes)?;
-        // SAFETY: `state` is non-null and points to the importer's fmi2FMUstate variable; a
-        // non-null value there is a live state of this library, which is then updated.
-        unsafe {
-            let slot = &mut *state;
-            if slot.is_null() {
-                *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
-            } else {
-                *(*slot as *mut Snapshot) = snap;
-            }
-        }
-        Ok(())
+        let snapshot = inst.deserialize_state(bytes)?;
+        // SAFETY: `state` is non-null and points to the host's fmi2FMUstate variable.
+        unsafe { store(state, snapshot) };
+        Ok(Status::Ok)
     })
 }
 
@@ -598,8 +574,8 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     _dv_known: *const fmi2Real,
     _dv_unknown: *mut fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2GetDirectionalDerivative", |inst| {
-        inst.get_directional_derivative()
+    call(c, Function::GetDirectionalDerivative, |inst| {
+        done(inst.get_directional_derivative())
     })
 }
 
@@ -611,7 +587,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     order: *const fmi2Integer,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2SetRealInputDerivatives", |inst| {
+    call(c, Function::SetRealInputDerivatives, |inst| {
         // SAFETY: FMI passes three arrays of `nvr` elements.
         let (vr, order, value) = unsafe {
             (
@@ -620,7 +596,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
                 slice(value, nvr, "value")?,
             )
         };
-        inst.set_real_input_derivatives(vr, order, value)
+        done(inst.set_real_input_derivatives(vr, order, value))
     })
 }
 
@@ -632,8 +608,8 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     _order: *const fmi2Integer,
     _value: *mut fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2GetRealOutputDerivatives", |inst| {
-        inst.get_real_output_derivatives()
+    call(c, Function::GetRealOutputDerivatives, |inst| {
+        done(inst.get_real_output_derivatives())
     })
 }
 
@@ -644,14 +620,14 @@ pub unsafe extern "C" fn fmi2DoStep(
     communication_step_size: fmi2Real,
     _no_set_fmu_state_prior_to_current_point: fmi2Boolean,
 ) -> fmi2Status {
-    call(c, "fmi2DoStep", |inst| {
+    call(c, Function::DoStep, |inst| {
         inst.do_step(current_communication_point, communication_step_size)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2CancelStep", |inst| inst.cancel_step())
+    call(c, Function::CancelStep, |inst| done(inst.cancel_step()))
 }
 
 #[no_mangle]
@@ -660,13 +636,13 @@ pub unsafe extern "C" fn fmi2GetStatus(
     kind: c_int,
     _value: *mut fmi2Status,
 ) -> fmi2Status {
-    call(c, "fmi2GetStatus", |inst| {
+    call(c, Function::GetStatus, |inst| {
         let what = if kind == STATUS_KIND_DO_STEP {
             "fmi2DoStepStatus"
         } else {
             "this status kind"
         };
-        inst.status_not_available("fmi2GetStatus", what)
+        done(inst.status_not_available(Function::GetStatus, what))
     })
 }
 
@@ -676,17 +652,17 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     kind: c_int,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2GetRealStatus", |inst| {
+    call(c, Function::GetRealStatus, |inst| {
         if kind != STATUS_KIND_LAST_SUCCESSFUL_TIME {
-            return inst.status_not_available("fmi2GetRealStatus", "this status kind");
+            return done(inst.status_not_available(Function::GetRealStatus, "this status kind"));
         }
         if value.is_null() {
             return Err(null_argument("value"));
         }
         let t = inst.last_successful_time()?;
-        // SAFETY: `value` is non-null and points to the importer's fmi2Real.
+        // SAFETY: `value` is non-null and points to the host's fmi2Real.
         unsafe { *value = t };
-        Ok(())
+        Ok(Status::Ok)
     })
 }
 
@@ -696,8 +672,8 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
     _kind: c_int,
     _value: *mut fmi2Integer,
 ) -> fmi2Status {
-    call(c, "fmi2GetIntegerStatus", |inst| {
-        inst.status_not_available("fmi2GetIntegerStatus", "an integer status")
+    call(c, Function::GetIntegerStatus, |inst| {
+        done(inst.status_not_available(Function::GetIntegerStatus, "an integer status"))
     })
 }
 
@@ -707,18 +683,17 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     kind: c_int,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
-    call(c, "fmi2GetBooleanStatus", |inst| {
+    call(c, Function::GetBooleanStatus, |inst| {
         if kind != STATUS_KIND_TERMINATED {
-            return inst.status_not_available("fmi2GetBooleanStatus", "this status kind");
+            return done(inst.status_not_available(Function::GetBooleanStatus, "this status kind"));
         }
         if value.is_null() {
             return Err(null_argument("value"));
         }
-        inst.last_successful_time()?;
-        // SAFETY: `value` is non-null and points to the importer's fmi2Boolean. The FMU never
-        // asks to end the simulation early.
-        unsafe { *value = FMI2_FALSE };
-        Ok(())
+        let terminated = inst.terminated_early()?;
+        // SAFETY: `value` is non-null and points to the host's fmi2Boolean.
+        unsafe { *value = if terminated { FMI2_TRUE } else { FMI2_FALSE } };
+        Ok(Status::Ok)
     })
 }
 
@@ -728,115 +703,12 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     kind: c_int,
     _value: *mut fmi2String,
 ) -> fmi2Status {
-    call(c, "fmi2GetStringStatus", |inst| {
+    call(c, Function::GetStringStatus, |inst| {
         let what = if kind == STATUS_KIND_PENDING {
             "fmi2PendingStatus"
         } else {
             "this status kind"
         };
-        inst.status_not_available("fmi2GetStringStatus", what)
+        done(inst.status_not_available(Function::GetStringStatus, what))
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::fmi::variables::{vr, GUID};
-
-    fn instantiate() -> fmi2Component {
-        let callbacks = fmi2CallbackFunctions {
-            logger: None,
-            allocate_memory: None,
-            free_memory: None,
-            step_finished: None,
-            component_environment: std::ptr::null_mut(),
-        };
-        let name = CString::new("t").unwrap();
-        let guid = CString::new(GUID).unwrap();
-        // SAFETY: valid strings and callbacks for the call.
-        unsafe {
-            fmi2Instantiate(
-                name.as_ptr(),
-                FMI2_CO_SIMULATION,
-                guid.as_ptr(),
-                std::ptr::null(),
-                &callbacks,
-                FMI2_FALSE,
-                FMI2_FALSE,
-            )
-        }
-    }
-
-    #[test]
-    fn null_pointers_and_garbage_are_errors_not_crashes() {
-        // SAFETY: every pointer passed is null, dangling-free, or a valid local.
-        unsafe {
-            assert!(fmi2Instantiate(
-                std::ptr::null(),
-                1,
-                std::ptr::null(),
-                std::ptr::null(),
-                std::ptr::null(),
-                0,
-                0
-            )
-            .is_null());
-            assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 0), ERROR);
-            let c = instantiate();
-            assert!(!c.is_null());
-            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), 0);
-            assert_eq!(fmi2EnterInitializationMode(c), 0);
-            assert_eq!(fmi2ExitInitializationMode(c), 0);
-            assert_eq!(
-                fmi2GetReal(c, std::ptr::null(), 1, std::ptr::null_mut()),
-                ERROR
-            );
-            assert_eq!(fmi2GetReal(c, std::ptr::null(), 0, std::ptr::null_mut()), 0);
-            let refs = [vr::CORNER1_DISPLACEMENT];
-            let mut out = [f64::NAN];
-            assert_eq!(fmi2GetReal(c, refs.as_ptr(), 1, out.as_mut_ptr()), 0);
-            assert_eq!(out[0], 0.0);
-            assert_eq!(fmi2GetFMUstate(c, std::ptr::null_mut()), ERROR);
-            let garbage = [7u8; 64];
-            let mut state: fmi2FMUstate = std::ptr::null_mut();
-            assert_eq!(
-                fmi2DeSerializeFMUstate(c, garbage.as_ptr() as *const fmi2Byte, 64, &mut state),
-                ERROR
-            );
-            assert!(state.is_null());
-            assert_eq!(
-                fmi2DeSerializeFMUstate(c, std::ptr::null(), 10, &mut state),
-                ERROR
-            );
-            assert_eq!(fmi2GetFMUstate(c, &mut state), 0);
-            let mut size: size_t = 0;
-            assert_eq!(fmi2SerializedFMUstateSize(c, state, &mut size), 0);
-            let mut bytes = vec![0 as fmi2Byte; size];
-            assert_eq!(
-                fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size - 1),
-                ERROR
-            );
-            assert_eq!(fmi2SerializeFMUstate(c, state, bytes.as_mut_ptr(), size), 0);
-            let mut copy: fmi2FMUstate = std::ptr::null_mut();
-            assert_eq!(
-                fmi2DeSerializeFMUstate(c, bytes.as_ptr(), size, &mut copy),
-                0
-            );
-            assert_eq!(fmi2SetFMUstate(c, copy), 0);
-            assert_eq!(fmi2SetFMUstate(c, std::ptr::null_mut()), ERROR);
-            assert_eq!(fmi2FreeFMUstate(c, &mut state), 0);
-            assert_eq!(fmi2FreeFMUstate(c, &mut copy), 0);
-            assert!(state.is_null() && copy.is_null());
-            assert_eq!(fmi2CancelStep(c), ERROR);
-            let mut t = -1.0;
-            assert_eq!(
-                fmi2GetRealStatus(c, STATUS_KIND_LAST_SUCCESSFUL_TIME, &mut t),
-                0
-            );
-            assert_eq!(t, 0.0);
-            assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 0), 0);
-            fmi2FreeInstance(c);
-            fmi2FreeInstance(std::ptr::null_mut());
-        }
-    }
 }

@@ -1,0 +1,63 @@
+//! Checks of C arguments, shared by every exported FMI function: null pointers, arrays of a given
+//! length, strings, and the text of a caught panic.
+
+use super::status::Failure;
+use std::borrow::Cow;
+use std::ffi::{c_char, CStr};
+
+/// A refusal naming a null pointer argument.
+pub fn null_argument(what: &str) -> Failure {
+    Failure::refused(format!("the argument {what} is a null pointer"))
+}
+
+/// Reads a C string argument; `None` if the pointer is null.
+///
+/// # Safety
+/// `p` must be null or point to a NUL-terminated string valid for the call (FMI requires this).
+pub unsafe fn c_str<'a>(p: *const c_char) -> Option<Cow<'a, str>> {
+    if p.is_null() {
+        None
+    } else {
+        // SAFETY: non-null, and NUL-terminated by the caller's contract.
+        Some(unsafe { CStr::from_ptr(p) }.to_string_lossy())
+    }
+}
+
+/// A slice from a C array of `n` elements; an empty slice for n = 0 whatever the pointer.
+///
+/// # Safety
+/// `p` must be null or point to `n` initialised elements valid for the call.
+pub unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
+    if n == 0 {
+        Ok(&[])
+    } else if p.is_null() {
+        Err(null_argument(what))
+    } else {
+        // SAFETY: non-null and, by the caller's contract, valid for `n` elements.
+        Ok(unsafe { std::slice::from_raw_parts(p, n) })
+    }
+}
+
+/// A mutable slice from a C array of `n` elements; an empty slice for n = 0 whatever the pointer.
+///
+/// # Safety
+/// `p` must be null or point to `n` writable elements valid for the call, not aliased.
+pub unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
+    if n == 0 {
+        Ok(&mut [])
+    } else if p.is_null() {
+        Err(null_argument(what))
+    } else {
+        // SAFETY: non-null and, by the caller's contract, valid and unaliased for `n` elements.
+        Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+    }
+}
+
+/// The message of a caught panic.
+pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}

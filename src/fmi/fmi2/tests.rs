@@ -1,0 +1,647 @@
+//! The FMI 2.0 instance driving the plate, through its safe API: the call-state table walked in
+//! every state the FMU can be in, and one regression test per defect the FMU had (rejected sets
+//! half-applied, OK with non-finite outputs, crafted FMU states accepted, unbounded steps, set-ups
+//! repeated in Initialization mode, results depending on ulp jitter of the step size, an element
+//! choice engines could not set).
+
+use super::call_state::{Function, Mode};
+use super::instance::{Instance, StoredState};
+use crate::fmi::logger::{LogSink, LOG_ALL, LOG_ERROR};
+use crate::fmi::plate::{PlateModel, LOG_CONTACT};
+use crate::fmi::serialized;
+use crate::fmi::status::{Failure, Status};
+use crate::fmi::variables::{vr, Causality, Kind, GUID, VARIABLES};
+use std::sync::{Arc, Mutex};
+
+type Plate = Instance<PlateModel>;
+type Messages = Arc<Mutex<Vec<(Status, String, String)>>>;
+
+fn instance() -> (Plate, Messages) {
+    let messages: Messages = Arc::default();
+    let m = messages.clone();
+    let sink: LogSink =
+        Box::new(move |s, c, msg| m.lock().unwrap().push((s, c.to_string(), msg.to_string())));
+    let inst = Plate::new("test", GUID, false, Some(sink)).ok().unwrap();
+    (inst, messages)
+}
+
+/// A small mesh keeps each set-up to a millisecond.
+fn small() -> (Plate, Messages) {
+    let (mut inst, m) = instance();
+    inst.set_integer(&[vr::MESH_NX, vr::MESH_NY], &[3, 2])
+        .unwrap();
+    (inst, m)
+}
+
+fn initialized() -> (Plate, Messages) {
+    let (mut inst, m) = small();
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    (inst, m)
+}
+
+fn real(inst: &mut Plate, vr: u32) -> f64 {
+    let mut v = [0.0];
+    inst.get_real(&[vr], &mut v).unwrap();
+    v[0]
+}
+
+/// Everything the host can observe: every variable readable now, and the serialized state.
+fn observe(inst: &mut Plate) -> (Vec<String>, Vec<u8>) {
+    let mut values = Vec::new();
+    for v in VARIABLES {
+        let text = match v.kind {
+            Kind::Real => {
+                let mut x = [0.0];
+                inst.get_real(&[v.vr], &mut x)
+                    .map(|()| x[0].to_bits().to_string())
+            }
+            Kind::Integer | Kind::Enumeration => {
+                let mut i = [0];
+                inst.get_integer(&[v.vr], &mut i).map(|()| i[0].to_string())
+            }
+            Kind::Boolean => {
+                let mut b = [false];
+                inst.get_boolean(&[v.vr], &mut b).map(|()| b[0].to_string())
+            }
+            Kind::String => unreachable!("no String variables"),
+        };
+        values.push(text.unwrap_or_else(|f| f.message));
+    }
+    let state = inst.get_state().unwrap();
+    let bytes = inst
+        .serialized(Function::SerializeFMUstate, &state)
+        .unwrap()
+        .to_vec();
+    (values, bytes)
+}
+
+#[test]
+fn wrong_guid_is_refused() {
+    assert!(Plate::new("x", "{nope}", false, None).is_err());
+}
+
+#[test]
+fn every_variable_can_be_read_after_initialization() {
+    let (mut inst, _) = initialized();
+    let (values, _) = observe(&mut inst);
+    for (v, text) in VARIABLES.iter().zip(values) {
+        assert!(
+            text.parse::<f64>().is_ok() || text.parse::<bool>().is_ok(),
+            "{}: {text}",
+            v.name
+        );
+    }
+}
+
+/// An instance in `mode` (one of those this FMU can be in).
+fn in_mode(mode: Mode) -> Plate {
+    let (mut inst, _) = small();
+    match mode {
+        Mode::Instantiated => {}
+        Mode::InitializationMode => inst.enter_initialization_mode().unwrap(),
+        Mode::StepComplete | Mode::Terminated | Mode::Error => {
+            inst.enter_initialization_mode().unwrap();
+            inst.exit_initialization_mode().unwrap();
+            if mode == Mode::Terminated {
+                inst.terminate().unwrap();
+            }
+            if mode == Mode::Error {
+                inst.set_real(&[vr::BASE_DISPLACEMENT], &[0.02]).unwrap();
+                let result = inst.do_step(0.0, 1e-3);
+                assert_eq!(inst.finish(Function::DoStep, result), Status::Error);
+            }
+        }
+        _ => unreachable!("{mode:?} is never entered"),
+    }
+    assert_eq!(inst.mode(), mode);
+    inst
+}
+
+/// One harmless call of `function`.
+fn call(
+    inst: &mut Plate,
+    function: Function,
+    state: &StoredState<PlateModel>,
+    bytes: &[u8],
+) -> Result<(), Failure> {
+    use Function::*;
+    let t = inst.time();
+    match function {
+        SetDebugLogging => inst.set_debug_logging(true, &[]),
+        SetupExperiment => inst.setup_experiment(0.0, None),
+        EnterInitializationMode => inst.enter_initialization_mode(),
+        ExitInitializationMode => inst.exit_initialization_mode(),
+        Terminate => inst.terminate(),
+        Reset => inst.reset(),
+        GetReal => inst.get_real(&[vr::PLATE_LENGTH], &mut [0.0]),
+        GetInteger => inst.get_integer(&[vr::MESH_NX], &mut [0]),
+        GetBoolean => inst.get_boolean(&[vr::OBSTACLE_LOWER_ENABLED], &mut [false]),
+        GetString | SetString => inst.check_string(function, &[]),
+        SetReal => inst.set_real(&[vr::BASE_DISPLACEMENT], &[0.0]),
+        SetInteger => inst.set_integer(&[], &[]),
+        SetBoolean => inst.set_boolean(&[], &[]),
+        GetFMUstate => inst.get_state().map(|_| ()),
+        SetFMUstate => inst.set_state(state),
+        FreeFMUstate => inst.free_state(),
+        SerializedFMUstateSize | SerializeFMUstate => inst.serialized(function, state).map(|_| ()),
+        DeSerializeFMUstate => inst.deserialize_state(bytes).map(|_| ()),
+        GetDirectionalDerivative => inst.get_directional_derivative(),
+        SetRealInputDerivatives => {
+            inst.set_real_input_derivatives(&[vr::BASE_DISPLACEMENT], &[1], &[0.0])
+        }
+        GetRealOutputDerivatives => inst.get_real_output_derivatives(),
+        DoStep => inst.do_step(t, 1e-4).map(|_| ()),
+        CancelStep => inst.cancel_step(),
+        GetRealStatus => inst.last_successful_time().map(|_| ()),
+        GetBooleanStatus => inst.terminated_early().map(|_| ()),
+        GetStatus | GetIntegerStatus | GetStringStatus => inst.status_not_available(function, "it"),
+    }
+}
+
+/// Every function in every state the FMU can be in: refused as "not allowed" exactly where the
+/// standard's table (`call_state.rs`) forbids it, and never for that reason elsewhere.
+#[test]
+fn the_standards_table_holds_through_the_instance() {
+    let (mut donor, _) = small();
+    let state = donor.get_state().unwrap();
+    let bytes = donor
+        .serialized(Function::SerializeFMUstate, &state)
+        .unwrap()
+        .to_vec();
+    for mode in Mode::ALL.into_iter().filter(|m| m.reachable()) {
+        for &function in Function::ALL {
+            let mut inst = in_mode(mode);
+            let result = call(&mut inst, function, &state, &bytes);
+            let refused_by_table = result
+                .as_ref()
+                .is_err_and(|f| f.message.starts_with("not allowed"));
+            assert_eq!(
+                refused_by_table,
+                !function.allowed_in(mode),
+                "{} in {mode:?}: {result:?}",
+                function.name()
+            );
+        }
+    }
+}
+
+/// Defect 1: a rejected multi-value set was half-applied.
+#[test]
+fn a_refused_set_changes_nothing() {
+    let (mut inst, _) = small();
+    inst.enter_initialization_mode().unwrap();
+    let before = observe(&mut inst);
+    let err = inst
+        .set_real(&[vr::LOAD_PRESSURE, vr::ENERGY_KINETIC], &[7770.0, 1.0])
+        .unwrap_err();
+    assert!(err.message.contains("energy.kinetic"), "{}", err.message);
+    assert!(inst
+        .set_real(
+            &[vr::BASE_DISPLACEMENT, vr::PLATE_LENGTH],
+            &[1e-3, f64::NAN]
+        )
+        .is_err());
+    assert!(inst
+        .set_integer(&[vr::MESH_NX, vr::MESH_ELEMENT], &[5, 3])
+        .is_err());
+    assert!(inst.set_integer(&[vr::MESH_NX, 9999], &[5, 1]).is_err());
+    assert!(inst
+        .set_boolean(
+            &[vr::OBSTACLE_LOWER_ENABLED, vr::PLATE_LENGTH],
+            &[false, true]
+        )
+        .is_err());
+    assert!(inst
+        .set_real_input_derivatives(&[vr::BASE_DISPLACEMENT; 2], &[1, 3], &[0.5, 1.0])
+        .is_err());
+    assert_eq!(observe(&mut inst), before);
+
+    inst.exit_initialization_mode().unwrap();
+    // Bend the plate up, past 1 mm at the free corners.
+    inst.set_real(&[vr::LOAD_PRESSURE], &[3e5]).unwrap();
+    for _ in 0..5 {
+        inst.do_step(inst.time(), 1e-3).unwrap();
+    }
+    assert!(real(&mut inst, vr::CORNER1_DISPLACEMENT) > 1e-3);
+    let before = observe(&mut inst);
+    // While stepping: a legal obstacle move with an illegal value, and a legal input with a fixed
+    // parameter.
+    assert!(inst
+        .set_real(
+            &[vr::OBSTACLE_UPPER, vr::LOAD_PRESSURE],
+            &[1e308, f64::INFINITY]
+        )
+        .is_err());
+    assert!(inst
+        .set_real(&[vr::BASE_DISPLACEMENT, vr::PLATE_WIDTH], &[1e-3, 0.3])
+        .is_err());
+    assert!(inst
+        .set_real(&[vr::LOAD_PRESSURE, vr::OBSTACLE_UPPER], &[100.0, 1e-6])
+        .is_err());
+    assert_eq!(observe(&mut inst), before);
+    // The same sets without the bad value go through whole.
+    inst.set_real(&[vr::OBSTACLE_UPPER, vr::LOAD_PRESSURE], &[0.02, 100.0])
+        .unwrap();
+    assert_eq!(real(&mut inst, vr::OBSTACLE_UPPER), 0.02);
+    assert_eq!(real(&mut inst, vr::LOAD_PRESSURE), 100.0);
+}
+
+/// Defect 2: fmi2DoStep returned OK with non-finite outputs.
+#[test]
+fn a_step_that_overflows_is_an_error_naming_the_output() {
+    let (mut inst, messages) = small();
+    inst.set_boolean(
+        &[vr::OBSTACLE_LOWER_ENABLED, vr::OBSTACLE_UPPER_ENABLED],
+        &[false, false],
+    )
+    .unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    inst.set_real(&[vr::BASE_DISPLACEMENT], &[1e308]).unwrap();
+    let result = inst.do_step(0.0, 1e-3);
+    assert_eq!(inst.finish(Function::DoStep, result), Status::Error);
+    assert_eq!(inst.mode(), Mode::Error);
+    let log = messages.lock().unwrap().clone();
+    let (_, category, message) = log.last().unwrap();
+    assert_eq!(category, LOG_ERROR);
+    assert!(
+        message.contains("not finite") || message.contains("non-finite"),
+        "{message}"
+    );
+    // Nothing non-finite is ever reported with OK.
+    for v in VARIABLES
+        .iter()
+        .filter(|v| v.causality == Causality::Output && v.kind == Kind::Real)
+    {
+        let mut x = [0.0];
+        if inst.get_real(&[v.vr], &mut x).is_ok() {
+            assert!(x[0].is_finite(), "{} = {}", v.name, x[0]);
+        }
+    }
+}
+
+/// A contact problem that was not solved (under 1e308 Pa) is an error, never garbage with OK.
+#[test]
+fn a_free_corner_past_an_obstacle_is_an_error() {
+    let (mut inst, _) = initialized();
+    inst.set_real(&[vr::LOAD_PRESSURE], &[1e308]).unwrap();
+    let err = inst.do_step(0.0, 1e-4).unwrap_err();
+    assert!(
+        ["past the obstacle", "not finite", "non-finite"]
+            .iter()
+            .any(|words| err.message.contains(words)),
+        "{}",
+        err.message
+    );
+    assert_eq!(inst.finish(Function::DoStep, Err(err)), Status::Error);
+    // The library refuses the step and keeps the state before it: what can still be read (FMI
+    // allows fmi2GetReal in the Error state) is that state, finite and inside the obstacles.
+    let mut corner = [f64::NAN];
+    if inst
+        .get_real(&[vr::CORNER1_DISPLACEMENT], &mut corner)
+        .is_ok()
+    {
+        assert!(
+            corner[0].is_finite() && corner[0].abs() <= 0.01,
+            "{}",
+            corner[0]
+        );
+    }
+}
+
+/// The bytes of `inst`'s state with the JSON field at `path` replaced by the JSON text `value`
+/// and a fresh checksum: a buffer that passes every framing check.
+fn crafted(inst: &mut Plate, path: &[&str], value: &str) -> Vec<u8> {
+    let state = inst.get_state().unwrap();
+    let bytes = inst
+        .serialized(Function::SerializeFMUstate, &state)
+        .unwrap();
+    let original = serialized::decode_json(bytes).unwrap();
+    let mut tree = original.clone();
+    let mut slot = &mut tree;
+    for part in path {
+        slot = match part.parse::<usize>() {
+            Ok(i) => &mut slot[i],
+            Err(_) => &mut slot[*part],
+        };
+    }
+    *slot = serde_json::Value::String("@raw@".into());
+    let text = serde_json::to_string(&tree)
+        .unwrap()
+        .replace("\"@raw@\"", value);
+    assert_ne!(
+        text,
+        serde_json::to_string(&original).unwrap(),
+        "{path:?} changed nothing"
+    );
+    serialized::encode_payload(text.as_bytes())
+}
+
+/// Defect 3: a crafted FMU state with a matching checksum was accepted.
+#[test]
+fn crafted_fmu_states_are_refused_naming_the_field() {
+    let (mut inst, _) = initialized();
+    for _ in 0..5 {
+        let t = inst.time();
+        inst.do_step(t, 1e-3).unwrap();
+    }
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (vec!["model", "start_time"], "-1e308", "too coarse"),
+        (vec!["model", "stop_time"], "1e-4", "beyond stopTime"),
+        (
+            vec!["model", "parameters", "material", "poisson_ratio"],
+            "0.7",
+            "material.poisson_ratio",
+        ),
+        (
+            vec!["model", "parameters", "stop_time"],
+            "5.0",
+            "not FMU variables",
+        ),
+        (
+            vec!["model", "parameters", "load", "pressure"],
+            "-1e308",
+            "differs from the parameters",
+        ),
+        (
+            vec!["model", "simulation", "stepper", "step_index"],
+            "1125899906842624",
+            "too coarse",
+        ),
+        (
+            vec!["model", "simulation", "stepper", "step_index"],
+            "-9223372036854775809",
+            "invalid payload",
+        ),
+        (
+            vec!["model", "simulation", "start_time"],
+            "0.5",
+            "starts at",
+        ),
+        (
+            vec!["model", "simulation", "input", "last_sample"],
+            "[7.0, 0.0]",
+            "outside",
+        ),
+        (
+            vec!["model", "simulation", "stepper", "current", "0"],
+            "-1e308",
+            "current[vertex",
+        ),
+        (vec!["model", "simulation"], "null", "holds no simulation"),
+        (vec!["mode"], "\"StepFailed\"", "never enters"),
+        (
+            vec!["mode"],
+            "\"Instantiated\"",
+            "holds a running simulation",
+        ),
+        (vec!["model", "input_derivatives", "0"], "1e308", ""),
+    ];
+    let before = observe(&mut inst);
+    for (path, value, words) in cases {
+        let bytes = crafted(&mut inst, &path, value);
+        let outcome = inst
+            .deserialize_state(&bytes)
+            .and_then(|state| inst.set_state(&state));
+        if words.is_empty() {
+            // A finite derivative is a legal state: accepted.
+            outcome.unwrap();
+            let state = inst.deserialize_state(&before.1).unwrap();
+            inst.set_state(&state).unwrap();
+        } else {
+            let err = outcome.expect_err(&format!("{path:?} = {value} accepted"));
+            assert!(
+                err.message.contains(words),
+                "{path:?} = {value}: {}",
+                err.message
+            );
+        }
+        assert_eq!(
+            observe(&mut inst),
+            before,
+            "{path:?} = {value} changed the instance"
+        );
+    }
+}
+
+/// Defect 4: a huge communication step ran for ever; a start time whose grid cannot advance was
+/// accepted.
+#[test]
+fn unbounded_steps_and_frozen_grids_are_refused_at_once() {
+    let (mut inst, _) = initialized();
+    for h in [1e300, 1e12] {
+        let err = inst.do_step(0.0, h).unwrap_err();
+        assert!(err.message.contains("internal steps"), "{}", err.message);
+    }
+    assert_eq!(inst.mode(), Mode::StepComplete);
+    let (mut inst, _) = small();
+    let err = inst.setup_experiment(-1e308, None).unwrap_err();
+    assert!(err.message.contains("startTime"), "{}", err.message);
+    // A start time fine for the default Δt but too coarse for a shorter one is refused at the
+    // end of initialization.
+    inst.setup_experiment(1e8, None).unwrap();
+    inst.set_real(&[vr::SOLVER_TIME_STEP], &[1e-7]).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let err = inst.exit_initialization_mode().unwrap_err();
+    assert!(
+        err.message.contains("startTime = 100000000"),
+        "{}",
+        err.message
+    );
+}
+
+/// Defect 5: every set in Initialization mode rebuilt the model, every read recomputed outputs.
+#[test]
+fn initialization_sets_do_not_rebuild_the_plate() {
+    let (mut inst, _) = small();
+    inst.enter_initialization_mode().unwrap();
+    for k in 0..20 {
+        let z = 1e-4 * f64::from(k);
+        inst.set_real(
+            &[vr::BASE_DISPLACEMENT, vr::LOAD_PRESSURE, vr::OBSTACLE_LOWER],
+            &[z, 10.0 * z, -0.01 - z],
+        )
+        .unwrap();
+        assert_eq!(
+            real(&mut inst, vr::CORNER1_DISPLACEMENT),
+            z,
+            "the plate follows its base"
+        );
+    }
+    assert_eq!(inst.model().full_set_ups(), 1);
+    inst.exit_initialization_mode().unwrap();
+    assert_eq!(inst.model().full_set_ups(), 1);
+    // Reset, same fixed parameters: the assembled plate is reused.
+    inst.reset().unwrap();
+    inst.set_integer(&[vr::MESH_NX, vr::MESH_NY], &[3, 2])
+        .unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    assert_eq!(inst.model().full_set_ups(), 1);
+    // A fixed parameter changed: one new set-up.
+    inst.reset().unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    assert_eq!(inst.model().full_set_ups(), 2);
+}
+
+/// Defect 7: the input plan used the host's raw h, so ulp jitter of h changed the results.
+#[test]
+fn ulp_jitter_of_the_step_size_changes_nothing() {
+    let run = |jitter: bool| {
+        let (mut inst, _) = initialized();
+        let mut out = Vec::new();
+        for k in 0..200u32 {
+            let t = f64::from(k) * 1e-3;
+            let h = if jitter {
+                f64::from(k + 1) * 1e-3 - t
+            } else {
+                1e-3
+            };
+            inst.set_real(&[vr::BASE_DISPLACEMENT], &[2e-3 * (60.0 * t).sin()])
+                .unwrap();
+            inst.do_step(inst.time(), h).unwrap();
+            out.push(real(&mut inst, vr::CORNER1_DISPLACEMENT).to_bits());
+        }
+        out
+    };
+    assert_eq!(run(true), run(false));
+}
+
+/// Defect 8: mesh.element was an enumeration that some engines cannot set.
+#[test]
+fn the_element_is_an_integer_parameter() {
+    let (mut inst, _) = small();
+    inst.set_integer(&[vr::MESH_ELEMENT], &[2]).unwrap();
+    let err = inst.set_integer(&[vr::MESH_ELEMENT], &[3]).unwrap_err();
+    assert!(
+        err.message.contains("1 (Argyris") && err.message.contains("2 (FVS"),
+        "{}",
+        err.message
+    );
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    let mut code = [0];
+    inst.get_integer(&[vr::MESH_ELEMENT], &mut code).unwrap();
+    assert_eq!(code, [2]);
+}
+
+#[test]
+fn state_round_trip_is_bit_identical() {
+    let (mut inst, _) = small();
+    inst.set_real(&[vr::BASE_AMPLITUDE], &[0.005]).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    for k in 0..20 {
+        inst.set_real(&[vr::BASE_DISPLACEMENT], &[1e-3 * (k as f64 * 0.3).sin()])
+            .unwrap();
+        inst.do_step(inst.time(), 1e-3).unwrap();
+    }
+    let state = inst.get_state().unwrap();
+    let bytes = inst
+        .serialized(Function::SerializeFMUstate, &state)
+        .unwrap()
+        .to_vec();
+    let run = |inst: &mut Plate| {
+        (0..30)
+            .map(|k| {
+                inst.set_real(&[vr::BASE_DISPLACEMENT], &[2e-3 * (k as f64 * 0.7).cos()])
+                    .unwrap();
+                inst.do_step(inst.time(), 1e-3).unwrap();
+                real(inst, vr::CORNER1_DISPLACEMENT).to_bits()
+            })
+            .collect::<Vec<_>>()
+    };
+    let first = run(&mut inst);
+    inst.set_state(&state).unwrap();
+    assert_eq!(run(&mut inst), first);
+    let (mut fresh, _) = instance();
+    let copy = fresh.deserialize_state(&bytes).unwrap();
+    fresh.set_state(&copy).unwrap();
+    assert_eq!(fresh.mode(), Mode::StepComplete);
+    assert_eq!(run(&mut fresh), first);
+}
+
+/// fmpy asks for the size, then for the bytes: the state is encoded once.
+#[test]
+fn a_state_is_encoded_once_per_save() {
+    let (mut inst, _) = initialized();
+    let state = inst.get_state().unwrap();
+    let size = inst
+        .serialized(Function::SerializedFMUstateSize, &state)
+        .unwrap();
+    let bytes = inst
+        .serialized(Function::SerializeFMUstate, &state)
+        .unwrap();
+    assert!(
+        std::ptr::eq(size, bytes),
+        "the second call re-encoded the state"
+    );
+    let again = inst.get_state().unwrap();
+    let fresh = inst
+        .serialized(Function::SerializeFMUstate, &again)
+        .unwrap();
+    assert_eq!(fresh, bytes, "encoding is deterministic");
+}
+
+#[test]
+fn base_outside_the_gap_is_an_error_then_reset_recovers() {
+    let (mut inst, messages) = initialized();
+    inst.set_real(&[vr::BASE_DISPLACEMENT], &[0.02]).unwrap();
+    let result = inst.do_step(0.0, 1e-3);
+    assert_eq!(inst.finish(Function::DoStep, result), Status::Error);
+    assert_eq!(inst.mode(), Mode::Error);
+    assert!(messages
+        .lock()
+        .unwrap()
+        .iter()
+        .any(|(s, c, m)| *s == Status::Error && c == LOG_ERROR && m.contains("base displacement")));
+    assert!(inst.do_step(inst.time(), 1e-3).is_err());
+    inst.reset().unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    inst.do_step(0.0, 1e-3).unwrap();
+}
+
+#[test]
+fn derivatives_sent_during_initialization_reach_the_first_step() {
+    let first_corner = |during_initialization: bool, send: bool| {
+        let (mut inst, _) = small();
+        inst.enter_initialization_mode().unwrap();
+        let derivative = |inst: &mut Plate| {
+            inst.set_real_input_derivatives(&[vr::BASE_DISPLACEMENT], &[1], &[0.5])
+                .unwrap()
+        };
+        if send && during_initialization {
+            derivative(&mut inst);
+        }
+        inst.exit_initialization_mode().unwrap();
+        if send && !during_initialization {
+            derivative(&mut inst);
+        }
+        inst.do_step(0.0, 1e-3).unwrap();
+        real(&mut inst, vr::CORNER1_DISPLACEMENT).to_bits()
+    };
+    assert_eq!(first_corner(true, true), first_corner(false, true));
+    assert_ne!(first_corner(true, true), first_corner(true, false));
+}
+
+#[test]
+fn logging_categories() {
+    let (mut inst, messages) = initialized();
+    assert!(inst.set_debug_logging(true, &["logNothing"]).is_err());
+    inst.set_debug_logging(true, &[LOG_CONTACT]).unwrap();
+    inst.set_real(&[vr::LOAD_PRESSURE], &[2e5]).unwrap();
+    for _ in 0..200 {
+        let result = inst.do_step(inst.time(), 1e-3);
+        assert_eq!(inst.finish(Function::DoStep, result), Status::Ok);
+    }
+    let log = messages.lock().unwrap();
+    assert!(
+        log.iter().any(|(_, c, _)| c == LOG_CONTACT),
+        "no contact event logged"
+    );
+    assert!(!log.iter().any(|(_, c, _)| c == LOG_ALL));
+}

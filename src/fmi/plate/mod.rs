@@ -1,0 +1,474 @@
+//! The plate's model binding: the FMU variables ↔ a [`Scene`] (parameters), the external base
+//! displacement (input) and the [`Outputs`](crate::simulation::Outputs) of a [`Simulation`]; the
+//! experiment; the communication step; the FMU state and its validation. It knows nothing of a
+//! particular FMI version (see [`crate::fmi::model`]).
+//!
+//! The simulation is set up lazily: sets before the end of initialization only change the
+//! parameters; the set-up runs when an output is read in Initialization mode or at
+//! fmi2ExitInitializationMode, and a second set-up reuses the assembled plate when no fixed
+//! parameter changed ([`Simulation::restart`]). Outputs are computed once per state and cached.
+
+mod snapshot;
+mod values;
+
+pub use snapshot::PlateSnapshot;
+
+use crate::fmi::ffi::panic_text;
+use crate::fmi::logger::{Logger, LOG_WARNING};
+use crate::fmi::model::{Model, Phase, Value};
+use crate::fmi::status::{Failure, Status};
+use crate::fmi::variables::{self, vr, Causality, Start, Variable};
+use crate::scene::Scene;
+use crate::simulation::grid::TimeGrid;
+use crate::simulation::input::InputSample;
+use crate::simulation::{InternalStep, SetUp, Simulation};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use values::{first_non_finite, first_past_obstacle};
+
+/// Log category of contact events: vertices entering or leaving contact, and the solver path.
+pub const LOG_CONTACT: &str = "logContact";
+
+/// Relative tolerance between the host's communication point and the FMU time.
+const TIME_TOLERANCE: f64 = 1e-9;
+
+/// The staged values of a set: the parameters and the input.
+pub struct Draft {
+    parameters: Scene,
+    input: f64,
+}
+
+/// The plate behind one FMU instance.
+pub struct PlateModel {
+    /// The parameters as set (tunable ones at their current values once stepping).
+    parameters: Scene,
+    start_time: f64,
+    stop_time: Option<f64>,
+    /// The external base displacement sampled at the current communication point (m).
+    input: f64,
+    /// Derivatives of orders 1 and 2 of the input, sent for the next communication step.
+    input_derivatives: [Option<f64>; 2],
+    simulation: Option<Simulation>,
+    /// Whether `simulation` was set up for the current parameters, input and start time.
+    current: bool,
+    /// How many times the plate was assembled and its backend built (the expensive set-up).
+    full_set_ups: u64,
+}
+
+/// Start value of the input `base.displacement`.
+fn input_start() -> f64 {
+    match variables::by_name("base.displacement").and_then(|v| v.start.clone()) {
+        Some(Start::Real(x)) => x,
+        _ => 0.0,
+    }
+}
+
+/// Checks that doubles resolve the internal steps at the experiment's start and stop times.
+fn check_experiment(scene: &Scene, start: f64, stop: Option<f64>) -> Result<(), Failure> {
+    if !start.is_finite() {
+        return Err(Failure::refused(format!(
+            "startTime = {start} s must be finite"
+        )));
+    }
+    if let Some(stop) = stop {
+        if !(stop.is_finite() && stop >= start) {
+            return Err(Failure::refused(format!(
+                "stopTime = {stop} s must be finite and >= startTime = {start} s"
+            )));
+        }
+    }
+    let grid = TimeGrid {
+        start,
+        step: scene.solver.time_step,
+    };
+    for (name, t) in [("startTime", Some(start)), ("stopTime", stop)] {
+        if let Some(t) = t {
+            grid.check_resolves(t)
+                .map_err(|e| Failure::refused(format!("{name} = {t} s is refused: {e}")))?;
+        }
+    }
+    Ok(())
+}
+
+impl PlateModel {
+    /// Sets the simulation up for the current parameters, input and start time unless it already
+    /// is (reusing the assembled plate when possible).
+    fn ensure_simulation(&mut self) -> Result<&Simulation, Failure> {
+        if !self.current || self.simulation.is_none() {
+            self.parameters.validate()?;
+            check_experiment(&self.parameters, self.start_time, self.stop_time)?;
+            let (scene, start, input) = (&self.parameters, self.start_time, self.input);
+            let simulation = &mut self.simulation;
+            // The set-up is a function of the parameters alone: a panic inside the library (a
+            // geometry the elements cannot handle) leaves the model as it was and is refused.
+            let set_up = catch_unwind(AssertUnwindSafe(|| match simulation {
+                Some(sim) => sim.restart(scene, start, input),
+                None => {
+                    *simulation = Some(Simulation::new(scene, start, input)?);
+                    Ok(SetUp::Rebuilt)
+                }
+            }))
+            .map_err(|payload| {
+                Failure::refused(format!(
+                    "the plate could not be set up for these parameters ({}); check that they describe a plate the elements can mesh",
+                    panic_text(payload.as_ref())
+                ))
+            })??;
+            self.full_set_ups += u64::from(set_up == SetUp::Rebuilt);
+            self.current = true;
+        }
+        Ok(self.simulation.as_ref().expect("set up above"))
+    }
+
+    /// How many times this model assembled the plate and built its backend (for tests and
+    /// diagnostics: sets before the end of initialization must not each cost a set-up).
+    pub fn full_set_ups(&self) -> u64 {
+        self.full_set_ups
+    }
+
+    fn running_simulation(&mut self) -> Result<&mut Simulation, Failure> {
+        self.simulation
+            .as_mut()
+            .ok_or_else(|| Failure::refused("the simulation is not available: it was never set up"))
+    }
+}
+
+/// Logs what the host should know of one internal step: vertices entering or leaving contact
+/// under logContact, and under logStatusWarning a step solved less exactly than the normal path.
+fn report_internal_step(log: &mut Logger, step: &InternalStep) {
+    if step.report.active != step.previously_active && log.enabled(LOG_CONTACT) {
+        let message = format!(
+            "t = {} s: {} vertices in contact (was {}), path {:?}",
+            step.time, step.report.active, step.previously_active, step.report.path
+        );
+        log.log(Status::Ok, LOG_CONTACT, &message);
+    }
+    if let Some(why) = step.degraded() {
+        let message = format!("t = {} s: {why}", step.time);
+        log.log(Status::Warning, LOG_WARNING, &message);
+    }
+}
+
+/// Why the outputs of `sim` may not be reported with fmi2OK, if they may not: an output that is
+/// not finite (the simulation overflowed), or a free corner past an obstacle (a contact problem
+/// that was not solved, such as under a pressure of 1e308 Pa).
+fn unsound_outputs(sim: &Simulation) -> Option<String> {
+    let (outputs, t) = (sim.outputs(), sim.time());
+    if let Some((name, x)) = first_non_finite(outputs) {
+        return Some(format!(
+            "the output {name} = {x} at t = {t} s is not finite: the simulation overflowed (a base displacement or load far beyond the plate's scale?)"
+        ));
+    }
+    first_past_obstacle(outputs, sim.scene()).map(|(name, u, g)| {
+        format!(
+            "the output {name} = {u} m at t = {t} s lies past the obstacle at {g} m: the contact problem was not solved (a load or base displacement far beyond the plate's scale?)"
+        )
+    })
+}
+
+impl Model for PlateModel {
+    type Draft = Draft;
+    type Snapshot = PlateSnapshot;
+
+    const GUID: &'static str = variables::GUID;
+    const LOG_CATEGORIES: &'static [&'static str] = variables::LOG_CATEGORIES;
+    const VARIABLES: &'static [Variable] = variables::VARIABLES;
+
+    fn new() -> PlateModel {
+        PlateModel {
+            parameters: Scene::default(),
+            start_time: 0.0,
+            stop_time: None,
+            input: input_start(),
+            input_derivatives: [None, None],
+            simulation: None,
+            current: false,
+            full_set_ups: 0,
+        }
+    }
+
+    fn reset(&mut self) {
+        *self = PlateModel {
+            simulation: self.simulation.take(),
+            full_set_ups: self.full_set_ups,
+            ..PlateModel::new()
+        };
+    }
+
+    fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), Failure> {
+        check_experiment(&self.parameters, start, stop)?;
+        self.start_time = start;
+        self.stop_time = stop;
+        self.current = false;
+        Ok(())
+    }
+
+    fn exit_initialization(&mut self) -> Result<(), Failure> {
+        let sim = self.ensure_simulation()?;
+        match unsound_outputs(sim) {
+            Some(message) => Err(Failure::refused(message)),
+            None => Ok(()),
+        }
+    }
+
+    fn time(&self, phase: Phase) -> f64 {
+        match &self.simulation {
+            Some(sim) if phase.running() => sim.time(),
+            _ => self.start_time,
+        }
+    }
+
+    fn get(&mut self, v: &Variable, phase: Phase) -> Result<Value, Failure> {
+        match v.causality {
+            Causality::Output => {
+                let sim = if phase == Phase::Initialization {
+                    self.ensure_simulation()?
+                } else {
+                    self.running_simulation()?
+                };
+                if let Some(message) = unsound_outputs(sim) {
+                    return Err(Failure::refused(message));
+                }
+                values::output(sim.outputs(), v)
+            }
+            Causality::Input => Ok(Value::Real(self.input)),
+            _ => values::parameter(&self.parameters, v),
+        }
+    }
+
+    fn draft(&self) -> Draft {
+        Draft {
+            parameters: self.parameters.clone(),
+            input: self.input,
+        }
+    }
+
+    fn stage(
+        &self,
+        draft: &mut Draft,
+        v: &Variable,
+        value: Value,
+        _: Phase,
+    ) -> Result<(), Failure> {
+        match (v.causality, value) {
+            (Causality::Input, Value::Real(x)) if x.is_finite() => draft.input = x,
+            (Causality::Input, Value::Real(x)) => {
+                return Err(crate::Error::invalid(v.name, x, "must be finite").into())
+            }
+            (Causality::Parameter, _) => {
+                draft.parameters = values::with_parameter(&draft.parameters, v, value)?
+            }
+            _ => {
+                return Err(Failure::refused(format!(
+                    "{} cannot take the value {value:?}",
+                    v.name
+                )))
+            }
+        }
+        Ok(())
+    }
+
+    fn commit(&mut self, draft: Draft, phase: Phase) -> Result<(), Failure> {
+        if phase == Phase::Stepping {
+            let (new, old) = (&draft.parameters, &self.parameters);
+            let obstacles_moved = new.obstacle.lower != old.obstacle.lower
+                || new.obstacle.upper != old.obstacle.upper;
+            let pressure_changed = new.load.pressure != old.load.pressure;
+            let (lower, upper, pressure) =
+                (new.obstacle.lower, new.obstacle.upper, new.load.pressure);
+            let sim = self.running_simulation()?;
+            // The only fallible part comes first; the pressure was checked finite when staged.
+            if obstacles_moved {
+                sim.set_obstacles(lower, upper)?;
+            }
+            if pressure_changed {
+                sim.set_pressure(pressure)?;
+            }
+        } else if draft.parameters != self.parameters || draft.input != self.input {
+            self.current = false;
+        }
+        self.parameters = draft.parameters;
+        self.input = draft.input;
+        Ok(())
+    }
+
+    fn set_input_derivatives(&mut self, items: &[(&Variable, i32, f64)]) -> Result<(), Failure> {
+        let mut derivatives = self.input_derivatives;
+        for &(v, order, x) in items {
+            if v.vr != vr::BASE_DISPLACEMENT {
+                return Err(Failure::refused(format!("{} is not an input", v.name)));
+            }
+            if !(1..=2).contains(&order) {
+                return Err(Failure::refused(format!(
+                    "order {order} of {} is not supported (1 or 2)",
+                    v.name
+                )));
+            }
+            if !x.is_finite() {
+                return Err(crate::Error::invalid(
+                    &format!("der({}, {order})", v.name),
+                    x,
+                    "must be finite",
+                )
+                .into());
+            }
+            derivatives[(order - 1) as usize] = Some(x);
+        }
+        self.input_derivatives = derivatives;
+        Ok(())
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, log: &mut Logger) -> Result<Status, Failure> {
+        let stop_time = self.stop_time;
+        let sample = InputSample {
+            value: self.input,
+            slope: self.input_derivatives[0],
+            curvature: self.input_derivatives[1],
+        };
+        let sim = self.running_simulation()?;
+        let now = sim.time();
+        let steps = sim
+            .grid()
+            .steps_in(h)
+            .map_err(|e| Failure::refused(e.to_string()))?;
+        if !(t.is_finite() && (t - now).abs() <= TIME_TOLERANCE * now.abs().max(h)) {
+            return Err(Failure::refused(format!(
+                "currentCommunicationPoint = {t} s differs from the FMU time {now} s (where the last step ended)"
+            )));
+        }
+        let end = sim.grid().time(sim.step_index() + steps);
+        sim.grid()
+            .check_resolves(end)
+            .map_err(|e| Failure::refused(format!("the step to t = {end} s is refused: {e}")))?;
+        if let Some(stop) = stop_time {
+            if end > stop + TIME_TOLERANCE * stop.abs().max(h) {
+                return Err(Failure::refused(format!(
+                    "the step to t = {end} s goes beyond stopTime = {stop} s set by fmi2SetupExperiment"
+                )));
+            }
+        }
+        let mut observer = |step: &InternalStep| report_internal_step(log, step);
+        let summary = sim.advance(steps, &sample, &mut observer);
+        let at = sim.time();
+        let summary = summary.map_err(|e| {
+            Failure::broken(format!(
+                "the step from t = {now} s failed at t = {at} s: {e}. The instance is now in the Error state: restore an FMU state, or reset"
+            ))
+        })?;
+        if let Some(message) = unsound_outputs(sim) {
+            return Err(Failure::broken(format!(
+                "{message}. The instance is now in the Error state: restore an FMU state, or reset"
+            )));
+        }
+        self.input_derivatives = [None, None];
+        Ok(if summary.degraded_steps > 0 {
+            Status::Warning
+        } else {
+            Status::Ok
+        })
+    }
+
+    fn snapshot(&self, phase: Phase) -> PlateSnapshot {
+        PlateSnapshot {
+            parameters: self.parameters.clone(),
+            start_time: self.start_time,
+            stop_time: self.stop_time,
+            input: self.input,
+            input_derivatives: self.input_derivatives,
+            simulation: match &self.simulation {
+                Some(sim) if phase.running() => Some(sim.state()),
+                _ => None,
+            },
+        }
+    }
+
+    fn validate(snapshot: &PlateSnapshot, phase: Phase) -> Result<(), Failure> {
+        snapshot.validate(phase)
+    }
+
+    fn restore(&mut self, snap: &PlateSnapshot, phase: Phase) -> Result<(), Failure> {
+        snap.validate(phase)?;
+        match &snap.simulation {
+            None => self.current = false,
+            Some(state) => {
+                let fixed = state.stepper.scene.fixed_part();
+                match &mut self.simulation {
+                    Some(sim) if sim.scene().fixed_part() == fixed => {
+                        let old = sim.state();
+                        sim.restore(state)?;
+                        if let Some(message) = unsound_outputs(sim) {
+                            sim.restore(&old).map_err(|e| {
+                                Failure::broken(format!(
+                                    "{message}; restoring the previous state failed too: {e}"
+                                ))
+                            })?;
+                            return Err(Failure::refused(format!(
+                                "the FMU state is refused: {message}"
+                            )));
+                        }
+                    }
+                    _ => {
+                        let sim = Simulation::from_state(state)?;
+                        if let Some(message) = unsound_outputs(&sim) {
+                            return Err(Failure::refused(format!(
+                                "the FMU state is refused: {message}"
+                            )));
+                        }
+                        self.simulation = Some(sim);
+                        self.full_set_ups += 1;
+                    }
+                }
+                self.current = true;
+            }
+        }
+        self.parameters = snap.parameters.clone();
+        self.start_time = snap.start_time;
+        self.stop_time = snap.stop_time;
+        self.input = snap.input;
+        self.input_derivatives = snap.input_derivatives;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi::logger::LogSink;
+    use crate::simulation::{StepPath, StepReport};
+    use std::sync::{Arc, Mutex};
+
+    /// Defect 9: a step solved less exactly than the normal path was silent.
+    #[test]
+    fn degraded_steps_are_logged_as_warnings() {
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let s = seen.clone();
+        let sink: LogSink = Box::new(move |status, category, message| {
+            s.lock()
+                .unwrap()
+                .push((status, category.to_string(), message.to_string()))
+        });
+        let mut log = Logger::new(Some(sink), variables::LOG_CATEGORIES, false);
+        let report = StepReport {
+            active: 3,
+            path: StepPath::ClarabelFallback,
+            bounds_evaluated: true,
+            warning: Some(
+                "the active-set method did not converge; clarabel solved the step".into(),
+            ),
+            damping_loss: 0.0,
+        };
+        let step = InternalStep {
+            time: 0.25,
+            report: &report,
+            previously_active: 0,
+        };
+        report_internal_step(&mut log, &step);
+        let seen = seen.lock().unwrap();
+        assert_eq!(seen.len(), 1, "logContact is off: only the warning");
+        let (status, category, message) = &seen[0];
+        assert_eq!((*status, category.as_str()), (Status::Warning, LOG_WARNING));
+        assert!(
+            message.contains("t = 0.25 s") && message.contains("clarabel"),
+            "{message}"
+        );
+    }
+}

@@ -1,0 +1,255 @@
+//! Variables ↔ the plate's data: parameters are [`Scene`] fields named by their dotted path (the
+//! variable name), read and written through [`Scene::get`] and [`Scene::with`]; outputs are
+//! [`Outputs`] fields; the one input is the external base displacement.
+
+use crate::element::ElementKind;
+use crate::error::Error;
+use crate::fmi::model::Value;
+use crate::fmi::status::Failure;
+use crate::fmi::variables::{vr, Kind, Variable};
+use crate::scene::Scene;
+use crate::simulation::{Outputs, BOUND_TOLERANCE};
+
+/// The integer code of `mesh.element` for each element family.
+pub fn element_code(kind: ElementKind) -> i32 {
+    match kind {
+        ElementKind::Argyris => 1,
+        ElementKind::Fvs => 2,
+    }
+}
+
+/// The element family of a `mesh.element` code.
+fn element_from_code(code: i32) -> Option<ElementKind> {
+    match code {
+        1 => Some(ElementKind::Argyris),
+        2 => Some(ElementKind::Fvs),
+        _ => None,
+    }
+}
+
+/// The value of a parameter in `scene`, typed as the variable declares it.
+pub fn parameter(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
+    let json = scene.get(v.name)?;
+    let internal = || {
+        Failure::refused(format!(
+            "{} = {json} has no FMI value (internal error)",
+            v.name
+        ))
+    };
+    Ok(match v.kind {
+        Kind::Real => Value::Real(json.as_f64().ok_or_else(internal)?),
+        Kind::Boolean => Value::Boolean(json.as_bool().ok_or_else(internal)?),
+        Kind::Integer | Kind::Enumeration if v.vr == vr::MESH_ELEMENT => {
+            let kind: ElementKind = serde_json::from_value(json.clone()).map_err(|_| internal())?;
+            Value::Integer(element_code(kind))
+        }
+        Kind::Integer | Kind::Enumeration => Value::Integer(
+            json.as_i64()
+                .and_then(|i| i32::try_from(i).ok())
+                .ok_or_else(internal)?,
+        ),
+        Kind::String => return Err(internal()),
+    })
+}
+
+/// The scene's JSON value for an FMI value of parameter `v`; non-finite reals and unknown element
+/// codes are refused, naming the variable.
+fn json_value(v: &Variable, value: Value) -> Result<serde_json::Value, Failure> {
+    Ok(match value {
+        Value::Real(x) if !x.is_finite() => {
+            return Err(Error::invalid(v.name, x, "must be finite").into())
+        }
+        Value::Real(x) => serde_json::Value::from(x),
+        Value::Boolean(b) => serde_json::Value::from(b),
+        Value::Integer(code) if v.vr == vr::MESH_ELEMENT => {
+            let kind = element_from_code(code).ok_or_else(|| {
+                Failure::from(Error::invalid(
+                    v.name,
+                    code,
+                    "must be 1 (Argyris triangles) or 2 (FVS quadrilaterals)",
+                ))
+            })?;
+            serde_json::to_value(kind).expect("an element kind serializes")
+        }
+        Value::Integer(i) if i < 0 => {
+            return Err(Error::invalid(v.name, i, "must be a positive integer").into())
+        }
+        Value::Integer(i) => serde_json::Value::from(i),
+    })
+}
+
+/// A scene in which no other parameter limits `name`, to check one value on its own: the plate
+/// is made huge (so no thickness is too thick) and, for the sine amplitude, the obstacles absent.
+fn isolation_scene(name: &str) -> Scene {
+    let mut s = Scene::default();
+    s.plate.length = 1e300;
+    s.plate.width = 1e300;
+    if name == "base.amplitude" {
+        s.obstacle.lower_enabled = false;
+        s.obstacle.upper_enabled = false;
+    }
+    s
+}
+
+/// `scene` with parameter `v` set to `value`, after checking the value against its own range
+/// (finite, the limits that do not involve another parameter). Limits that tie parameters together
+/// (thickness below the shorter side, sine amplitude inside the gap) are left to
+/// [`Scene::validate`] on the whole scene, so the order of the sets does not matter.
+pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene, Failure> {
+    let json = json_value(v, value)?;
+    let updated = scene.with(v.name, json.clone())?;
+    if let Err(e) = isolation_scene(v.name).with(v.name, json)?.validate() {
+        if matches!(&e, Error::InvalidParameter { name, .. } if name == v.name) {
+            return Err(e.into());
+        }
+    }
+    Ok(updated)
+}
+
+/// The value of output `v` (by value reference) in `outputs`.
+pub fn output(outputs: &Outputs, v: &Variable) -> Result<Value, Failure> {
+    Ok(match v.vr {
+        vr::CORNER1_DISPLACEMENT => Value::Real(outputs.corner1),
+        vr::CORNER2_DISPLACEMENT => Value::Real(outputs.corner2),
+        vr::EDGE_MID_DISPLACEMENT => Value::Real(outputs.edge_mid),
+        vr::ENERGY_KINETIC => Value::Real(outputs.energy_kinetic),
+        vr::ENERGY_ELASTIC => Value::Real(outputs.energy_elastic),
+        vr::ENERGY_TOTAL => Value::Real(outputs.energy_total),
+        vr::CONTACT_FORCE => Value::Real(outputs.contact_force),
+        vr::CONTACT_ACTIVE_NODES => Value::Integer(
+            i32::try_from(outputs.active_nodes).expect("at most 401² vertices are in contact"),
+        ),
+        _ => {
+            return Err(Failure::refused(format!(
+                "{} has no output binding (internal error)",
+                v.name
+            )))
+        }
+    })
+}
+
+/// The first output of `outputs` that is not finite, as (variable name, value).
+pub fn first_non_finite(outputs: &Outputs) -> Option<(&'static str, f64)> {
+    [
+        ("corner1.displacement", outputs.corner1),
+        ("corner2.displacement", outputs.corner2),
+        ("edge_mid.displacement", outputs.edge_mid),
+        ("energy.kinetic", outputs.energy_kinetic),
+        ("energy.elastic", outputs.energy_elastic),
+        ("energy.total", outputs.energy_total),
+        ("contact.force", outputs.contact_force),
+    ]
+    .into_iter()
+    .find(|(_, x)| !x.is_finite())
+}
+
+/// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
+/// more than [`BOUND_TOLERANCE`] of the gap, as (variable name, value, obstacle level). With
+/// restitution e > 0 the bound holds for (u_{n+1} + e u_{n−1})/(1 + e), not for u: no check then.
+pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static str, f64, f64)> {
+    if scene.solver.restitution != 0.0 {
+        return None;
+    }
+    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+    let tolerance = BOUND_TOLERANCE * (upper.unwrap_or(1.0) - lower.unwrap_or(-1.0));
+    [
+        ("corner1.displacement", outputs.corner1),
+        ("corner2.displacement", outputs.corner2),
+    ]
+    .into_iter()
+    .find_map(|(name, u)| {
+        let below = lower.filter(|&g| u < g - tolerance);
+        let above = upper.filter(|&g| u > g + tolerance);
+        below.or(above).map(|g| (name, u, g))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi::variables::{by_name, Causality, Start, VARIABLES};
+
+    /// The description's start values are the scene defaults: the two cannot drift.
+    #[test]
+    fn start_values_equal_scene_defaults() {
+        let scene = Scene::default();
+        let mut parameters = 0;
+        for v in VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+        {
+            parameters += 1;
+            let expected = match v.start.clone() {
+                Some(Start::Real(x)) => Value::Real(x),
+                Some(Start::Integer(i)) => Value::Integer(i32::try_from(i).unwrap()),
+                Some(Start::Boolean(b)) => Value::Boolean(b),
+                other => panic!("{}: unexpected start {other:?}", v.name),
+            };
+            assert_eq!(parameter(&scene, v).unwrap(), expected, "{}", v.name);
+        }
+        assert_eq!(parameters, 19, "docs/fmu.md lists 19 parameters");
+    }
+
+    /// Every output variable has a binding, and the finiteness guard covers every Real output.
+    #[test]
+    fn every_output_is_bound_and_guarded() {
+        let mut outputs = Outputs::default();
+        for v in VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Output)
+        {
+            output(&outputs, v).unwrap();
+        }
+        let real_outputs = VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Output && v.kind == Kind::Real)
+            .count();
+        assert_eq!(first_non_finite(&outputs), None);
+        outputs.energy_elastic = f64::INFINITY;
+        assert_eq!(
+            first_non_finite(&outputs),
+            Some(("energy.elastic", f64::INFINITY))
+        );
+        assert_eq!(real_outputs, 7);
+        for name in [
+            "corner1.displacement",
+            "corner2.displacement",
+            "edge_mid.displacement",
+            "energy.kinetic",
+            "energy.total",
+            "contact.force",
+        ] {
+            assert_eq!(by_name(name).unwrap().kind, Kind::Real, "{name}");
+        }
+    }
+
+    #[test]
+    fn element_is_an_integer_naming_its_values() {
+        let v = by_name("mesh.element").unwrap();
+        assert_eq!(v.kind, Kind::Integer);
+        let scene = with_parameter(&Scene::default(), v, Value::Integer(2)).unwrap();
+        assert_eq!(scene.mesh.element, ElementKind::Fvs);
+        let err = with_parameter(&scene, v, Value::Integer(3)).unwrap_err();
+        assert!(
+            err.message.contains("mesh.element") && err.message.contains("2 (FVS"),
+            "{}",
+            err.message
+        );
+    }
+
+    #[test]
+    fn own_ranges_are_checked_cross_limits_are_not() {
+        let thickness = by_name("plate.thickness").unwrap();
+        let scene = with_parameter(&Scene::default(), thickness, Value::Real(0.3)).unwrap();
+        assert!(
+            scene.validate().is_err(),
+            "thicker than the width: for later"
+        );
+        let ratio = by_name("material.poisson_ratio").unwrap();
+        let err = with_parameter(&scene, ratio, Value::Real(0.5)).unwrap_err();
+        assert!(err.message.contains("material.poisson_ratio"));
+        let nx = by_name("mesh.nx").unwrap();
+        assert!(with_parameter(&scene, nx, Value::Integer(-3)).is_err());
+        assert!(with_parameter(&scene, nx, Value::Integer(401)).is_err());
+    }
+}

@@ -1,0 +1,397 @@
+//! A co-simulation of one scene, communication step by communication step: the model the FMU
+//! drives, usable without FMI by tests and examples.
+//!
+//! * [`grid`]: the internal time grid t_n = t_start + nΔt and the limits on a communication step;
+//! * [`input`]: how a sampled external base displacement is applied inside a communication step.
+//!
+//! The base displacement of the plate is the scene's built-in sine c sin(2πf(t − t_start)) plus
+//! the external signal. A communication step of k internal steps plans the external base on the
+//! grid it covers ([`input`]), runs the k steps of the [`Stepper`], reports each to an observer,
+//! and returns a [`CommunicationStep`] summary. Outputs are computed at most once per state, on
+//! demand, and cached until the state changes.
+
+pub mod grid;
+pub mod input;
+
+use crate::error::Error;
+use crate::scene::Scene;
+use crate::scheme::Stepper;
+pub use crate::scheme::{Outputs, State, StepPath, StepReport};
+use grid::TimeGrid;
+use input::{InputHistory, InputSample};
+use serde::{Deserialize, Serialize};
+use std::cell::OnceCell;
+
+/// What an observer of a communication step sees after each internal step.
+#[derive(Clone, Copy, Debug)]
+pub struct InternalStep<'a> {
+    /// t_{n+1}, the grid time the step reached (s).
+    pub time: f64,
+    /// What the stepper reported.
+    pub report: &'a StepReport,
+    /// Vertices in contact before the step.
+    pub previously_active: usize,
+}
+
+impl InternalStep<'_> {
+    /// Why the step was solved less exactly than the normal path (the active-set method did not
+    /// converge and clarabel solved it instead, or clarabel's answer could not be polished), if it was.
+    pub fn degraded(&self) -> Option<&str> {
+        self.report.warning.as_deref()
+    }
+}
+
+/// What one communication step did, aggregated over its internal steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CommunicationStep {
+    /// Internal steps taken.
+    pub internal_steps: u64,
+    /// Internal steps solved less exactly than the normal path (see [`InternalStep::degraded`]).
+    pub degraded_steps: u64,
+}
+
+/// How [`Simulation::restart`] got back to n = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetUp {
+    /// The assembled plate and its backend were reused.
+    Reused,
+    /// The plate was assembled and its backend built anew.
+    Rebuilt,
+}
+
+/// The serializable state of a [`Simulation`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SimulationState {
+    /// t_start (s).
+    pub start_time: f64,
+    /// The stepper's state (scene, step count, fields, contacts).
+    pub stepper: State,
+    /// The interpolation history of the external base.
+    pub input: InputHistory,
+}
+
+/// How far past an obstacle a vertex may lie, as a fraction of the gap (of 1 m with one obstacle),
+/// before a state counts as a contact problem that was not solved: the dynamic steps are exact to
+/// round-off (at most 7e-11 of the gap measured, on the clarabel path), and the static preload
+/// problem, solved by clarabel alone, lay up to 9e-9 of the gap past an obstacle for a plate as soft
+/// as E = 1e-4 Pa.
+pub const BOUND_TOLERANCE: f64 = 1e-7;
+
+/// Refuses an initial state with a vertex past an obstacle (a static preload problem that was not
+/// solved accurately), naming the vertex position and the obstacle.
+fn check_initial_state(stepper: &Stepper) -> Result<(), Error> {
+    let scene = stepper.scene();
+    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+    let gap = upper.unwrap_or(1.0) - lower.unwrap_or(-1.0);
+    let tolerance = BOUND_TOLERANCE * gap;
+    for u in stepper.constrained_displacements() {
+        let past = |g: Option<f64>, below: bool| {
+            g.filter(|&g| {
+                if below {
+                    u < g - tolerance
+                } else {
+                    u > g + tolerance
+                }
+            })
+        };
+        if let Some(g) = past(lower, true).or(past(upper, false)) {
+            return Err(Error::ContactSolver(format!(
+                "the initial state (static equilibrium under initial.preload_pressure = {} Pa) puts a vertex at u = {u} m, past the obstacle at {g} m: the static contact problem was not solved accurately for these parameters (material.young_modulus = {} Pa)",
+                scene.initial.preload_pressure, scene.material.young_modulus
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// One simulation of a scene, advanced by communication steps.
+pub struct Simulation {
+    stepper: Stepper,
+    grid: TimeGrid,
+    input: InputHistory,
+    /// The stepper at n = 0 and the external base it was built for, for [`Simulation::restart`].
+    initial: (State, f64),
+    outputs: OnceCell<Outputs>,
+}
+
+impl Simulation {
+    /// Sets the scene up (assembly, backend, static preload) at t_start = `start_time` (s), with
+    /// the external base displacement `external_base` (m) there.
+    pub fn new(scene: &Scene, start_time: f64, external_base: f64) -> Result<Simulation, Error> {
+        let z0 = scene.builtin_base(0.0) + external_base;
+        let stepper = Stepper::new(scene, z0)?;
+        check_initial_state(&stepper)?;
+        Ok(Simulation {
+            initial: (stepper.state(), external_base),
+            grid: TimeGrid {
+                start: start_time,
+                step: scene.solver.time_step,
+            },
+            input: InputHistory::new(external_base),
+            outputs: OnceCell::new(),
+            stepper,
+        })
+    }
+
+    /// Puts the simulation back to n = 0 for `scene`, `start_time` and `external_base`, exactly as
+    /// [`Simulation::new`] would, reusing the assembled plate and its backend when the scene's
+    /// fixed part is unchanged and the initial state does not depend on what changed (no preload,
+    /// or the same external base and obstacle levels): the expensive set-up runs only when needed.
+    /// After an error the simulation must be restarted again or dropped.
+    pub fn restart(
+        &mut self,
+        scene: &Scene,
+        start_time: f64,
+        external_base: f64,
+    ) -> Result<SetUp, Error> {
+        let (initial, initial_external) = &self.initial;
+        let old = &initial.scene;
+        let z0 = scene.builtin_base(0.0) + external_base;
+        let inside = scene.lower_obstacle().is_none_or(|g| z0 > g)
+            && scene.upper_obstacle().is_none_or(|g| z0 < g);
+        let reusable = scene.validate().is_ok()
+            && inside
+            && old.fixed_part() == scene.fixed_part()
+            && (scene.initial.preload_pressure == 0.0
+                || (*initial_external == external_base && old.obstacle == scene.obstacle));
+        if !reusable {
+            *self = Simulation::new(scene, start_time, external_base)?;
+            return Ok(SetUp::Rebuilt);
+        }
+        let mut state = initial.clone();
+        state.scene = scene.clone();
+        state.base = [z0; 2];
+        state.pressure = [scene.load.pressure; 2];
+        self.stepper.restore(&state)?;
+        check_initial_state(&self.stepper)?;
+        self.initial = (state, external_base);
+        self.grid.start = start_time;
+        self.input = InputHistory::new(external_base);
+        self.outputs = OnceCell::new();
+        Ok(SetUp::Reused)
+    }
+
+    /// A simulation continuing from `state` (built for its scene, then restored).
+    pub fn from_state(state: &SimulationState) -> Result<Simulation, Error> {
+        let mut sim = Simulation::new(&state.stepper.scene, state.start_time, 0.0)?;
+        sim.restore(state)?;
+        Ok(sim)
+    }
+
+    /// The scene, tunable parameters at their current values.
+    pub fn scene(&self) -> &Scene {
+        self.stepper.scene()
+    }
+
+    /// The internal time grid.
+    pub fn grid(&self) -> &TimeGrid {
+        &self.grid
+    }
+
+    /// n.
+    pub fn step_index(&self) -> u64 {
+        self.stepper.step_index()
+    }
+
+    /// t_n = t_start + nΔt (s).
+    pub fn time(&self) -> f64 {
+        self.grid.time(self.stepper.step_index())
+    }
+
+    /// The outputs of the current state, computed on the first call after each change.
+    pub fn outputs(&self) -> &Outputs {
+        self.outputs.get_or_init(|| self.stepper.outputs())
+    }
+
+    /// Advances `steps` internal steps with the external base planned from `sample` (see
+    /// [`input`]), calling `observer` after each. On an error the steps before it stay taken.
+    pub fn advance(
+        &mut self,
+        steps: u64,
+        sample: &InputSample,
+        observer: &mut dyn FnMut(&InternalStep),
+    ) -> Result<CommunicationStep, Error> {
+        let n0 = self.stepper.step_index();
+        let dt = self.grid.step;
+        let start = self.grid.elapsed(n0);
+        let plan = self.input.plan(start, sample, steps as f64 * dt);
+        let mut previously_active = self.outputs().active_nodes;
+        self.outputs = OnceCell::new();
+        let mut summary = CommunicationStep::default();
+        for i in 1..=steps {
+            let n = n0 + i;
+            let base = self.scene().builtin_base(self.grid.elapsed(n)) + plan.at(i as f64 * dt);
+            let report = self.stepper.step(base)?;
+            let step = InternalStep {
+                time: self.grid.time(n),
+                report: &report,
+                previously_active,
+            };
+            summary.internal_steps += 1;
+            summary.degraded_steps += u64::from(step.degraded().is_some());
+            observer(&step);
+            previously_active = report.active;
+        }
+        self.input.finish(start, &plan);
+        Ok(summary)
+    }
+
+    /// Moves the obstacles (tunable); see [`Stepper::set_obstacles`].
+    pub fn set_obstacles(&mut self, lower: f64, upper: f64) -> Result<(), Error> {
+        self.stepper.set_obstacles(lower, upper)?;
+        self.outputs = OnceCell::new();
+        Ok(())
+    }
+
+    /// Changes the pressure from the next step on (tunable).
+    pub fn set_pressure(&mut self, pressure: f64) -> Result<(), Error> {
+        self.stepper.set_pressure(pressure)?;
+        self.outputs = OnceCell::new();
+        Ok(())
+    }
+
+    /// The state, enough to continue bit-identically.
+    pub fn state(&self) -> SimulationState {
+        SimulationState {
+            start_time: self.grid.start,
+            stepper: self.stepper.state(),
+            input: self.input.clone(),
+        }
+    }
+
+    /// Continues from `state`, taken from a simulation with the same fixed parameters. The state
+    /// is untrusted: its grid and input history are checked here, the stepper's fields by
+    /// [`Stepper::restore`]; nothing changes unless everything checks out.
+    pub fn restore(&mut self, state: &SimulationState) -> Result<(), Error> {
+        let grid = TimeGrid {
+            start: state.start_time,
+            step: state.stepper.scene.solver.time_step,
+        };
+        let n = state.stepper.step_index;
+        let invalid = |limit: String| Error::invalid("FMU state", "<state>", &limit);
+        grid.check_resolves(grid.start)
+            .and_then(|()| grid.check_resolves(grid.time(n)))
+            .map_err(|e| invalid(format!("has a time grid that {e}")))?;
+        state
+            .input
+            .check(grid.elapsed(n))
+            .map_err(|e| invalid(format!("is inconsistent: {e}")))?;
+        self.stepper.restore(&state.stepper)?;
+        self.grid = grid;
+        self.input = state.input.clone();
+        self.outputs = OnceCell::new();
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corner_trace(sim: &mut Simulation, steps: usize) -> Vec<u64> {
+        (0..steps)
+            .map(|k| {
+                let sample = InputSample {
+                    value: 1e-3 * (k as f64 * 0.4).sin(),
+                    ..InputSample::default()
+                };
+                sim.advance(3, &sample, &mut |_| {}).unwrap();
+                let o = sim.outputs();
+                o.corner1.to_bits() ^ o.energy_total.to_bits()
+            })
+            .collect()
+    }
+
+    fn small(mut scene: Scene) -> Scene {
+        scene.mesh.nx = 3;
+        scene.mesh.ny = 2;
+        scene
+    }
+
+    #[test]
+    fn restart_equals_a_fresh_simulation_bit_for_bit() {
+        let a = small(Scene::default());
+        let mut b = a.clone();
+        b.load.pressure = 1e5;
+        b.obstacle.lower = -0.004;
+        let mut preloaded = b.clone();
+        preloaded.initial.preload_pressure = -3e5;
+        let mut finer = a.clone();
+        finer.mesh.nx = 4;
+        let mut sim = Simulation::new(&a, 0.0, 0.0).unwrap();
+        corner_trace(&mut sim, 5);
+        for (scene, start, external, how) in [
+            (&b, 0.5, 2e-3, SetUp::Reused),
+            (&a, 0.0, 0.0, SetUp::Reused),
+            (&preloaded, 0.0, 0.0, SetUp::Rebuilt),
+            (&preloaded, 0.0, 0.0, SetUp::Reused),
+            (&preloaded, 0.0, 1e-3, SetUp::Rebuilt),
+            (&finer, 0.0, 0.0, SetUp::Rebuilt),
+        ] {
+            assert_eq!(sim.restart(scene, start, external).unwrap(), how);
+            let mut fresh = Simulation::new(scene, start, external).unwrap();
+            assert_eq!(sim.outputs(), fresh.outputs());
+            assert_eq!(sim.time(), start);
+            assert_eq!(corner_trace(&mut sim, 40), corner_trace(&mut fresh, 40));
+        }
+    }
+
+    #[test]
+    fn state_round_trip_continues_bit_identically() {
+        let mut scene = small(Scene::default());
+        scene.base.amplitude = 0.005;
+        let mut sim = Simulation::new(&scene, 0.25, 0.0).unwrap();
+        corner_trace(&mut sim, 7);
+        let state = sim.state();
+        let expected = corner_trace(&mut sim, 30);
+        let mut other = Simulation::from_state(&state).unwrap();
+        assert_eq!(other.time(), 0.25 + 21.0 * 1e-4);
+        assert_eq!(corner_trace(&mut other, 30), expected);
+        sim.restore(&state).unwrap();
+        assert_eq!(corner_trace(&mut sim, 30), expected);
+    }
+
+    #[test]
+    fn restore_refuses_inconsistent_histories_and_grids() {
+        let scene = small(Scene::default());
+        let mut sim = Simulation::new(&scene, 0.0, 0.0).unwrap();
+        corner_trace(&mut sim, 2);
+        let good = sim.state();
+        let mut future = good.clone();
+        future.input.last_sample = Some((1.0, 0.0));
+        let err = sim.restore(&future).unwrap_err().to_string();
+        assert!(err.contains("outside"), "{err}");
+        let mut far = good.clone();
+        far.start_time = -1e308;
+        let err = sim.restore(&far).unwrap_err().to_string();
+        assert!(err.contains("too coarse"), "{err}");
+        assert_eq!(sim.state(), good, "a refused restore changes nothing");
+    }
+
+    #[test]
+    fn an_inaccurate_initial_state_is_refused() {
+        let mut scene = small(Scene::default());
+        scene.material.young_modulus = 1e-3;
+        scene.initial.preload_pressure = 1e5;
+        let err = Simulation::new(&scene, 0.0, 5e-3)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(err.contains("past the obstacle"), "{err}");
+    }
+
+    #[test]
+    fn observer_sees_every_internal_step_on_the_grid() {
+        let scene = small(Scene::default());
+        let mut sim = Simulation::new(&scene, 1.0, 0.0).unwrap();
+        let mut times = Vec::new();
+        let summary = sim
+            .advance(4, &InputSample::default(), &mut |s| times.push(s.time))
+            .unwrap();
+        assert_eq!(summary.internal_steps, 4);
+        assert_eq!(
+            times,
+            (1..=4).map(|n| 1.0 + n as f64 * 1e-4).collect::<Vec<_>>()
+        );
+    }
+}

@@ -1,0 +1,66 @@
+"""The packaged FMU against its golden results (tests/fmu/reference/<scene>.csv, written by
+tests/fmu/reference/regenerate.py, regenerated only on purpose): every shipped scene over its
+1 s horizon at 1 ms communication points.
+
+How sensitive the scenes are, measured before choosing the tolerances (1 s, every 1 ms point):
+* shifting the base by 1e-15 m (`regenerate.py --sensitivity`) moves corner1 by at most 3e-11 m
+  (forced-35hz; 8e-13 to 3e-12 m in the others) and energy.total by at most 1.2e-8 of its scale;
+* solving every contact step with clarabel instead of the exact active-set method (a different
+  solver with its own round-off and a 1e-12 tolerance; `examples/scene.rs ... solver.qp=clarabel`)
+  moves the displacements by at most 8.8e-10 m, energy.total by 2.2e-7 of its scale, the total
+  contact force by 4.2e-7 of its largest value, and not one row's count of vertices in contact.
+So within 1 s no scene diverges chaotically: every row is compared, with tolerances about 100
+times the solver-to-solver differences (what a legitimate change of the contact solver's round-off
+can do) and far below what a real regression does (a wrong scheme, element, load or input rule
+moves the corners by millimetres and the energy by percents).
+"""
+
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+
+from conftest import SCENES, scene_start_values
+
+import reference.regenerate as regenerate
+
+# 1e-7 m, 1e-5 of the 0.01 m gap: 100 x the largest solver-to-solver difference (8.8e-10 m).
+DISPLACEMENT_ATOL = 1e-7
+# Of the scene's largest |energy.total|: 45 x the solver-to-solver difference (2.2e-7).
+ENERGY_RTOL = 1e-5
+# Of the scene's largest |contact.force|: 24 x the solver-to-solver difference (4.2e-7).
+FORCE_RTOL = 1e-5
+# Rows whose count of vertices in contact may differ by one vertex: a vertex grazing an obstacle
+# may flip with round-off (none did between the two solvers); a regression changes many rows.
+ACTIVE_FLIPS = 3
+
+SCENE_NAMES = sorted(p.stem for p in SCENES.glob("*.json"))
+
+
+@pytest.mark.parametrize("scene", SCENE_NAMES)
+def test_fmu_matches_its_golden_result(fmu_path, scene):
+    reference = regenerate.read(regenerate.HERE / f"{scene}.csv")
+    start, stop = scene_start_values(scene)
+    result = simulate_fmu(fmu_path, start_time=0.0, stop_time=stop, output_interval=regenerate.STEP,
+                          start_values=start, output=regenerate.OUTPUTS)
+    assert len(result) == len(reference)
+    np.testing.assert_allclose(result["time"], reference["time"], rtol=0, atol=1e-12)
+    for name in ["corner1.displacement", "corner2.displacement", "edge_mid.displacement"]:
+        np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=DISPLACEMENT_ATOL,
+                                   err_msg=f"{scene}: {name}")
+    energy_scale = np.max(np.abs(reference["energy.total"]))
+    for name in ["energy.kinetic", "energy.elastic", "energy.total"]:
+        np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=ENERGY_RTOL * energy_scale,
+                                   err_msg=f"{scene}: {name}")
+    force_scale = max(np.max(np.abs(reference["contact.force"])), 1.0)
+    np.testing.assert_allclose(result["contact.force"], reference["contact.force"], rtol=0,
+                               atol=FORCE_RTOL * force_scale, err_msg=f"{scene}: contact.force")
+    active = np.abs(result["contact.active_nodes"].astype(int) - reference["contact.active_nodes"].astype(int))
+    assert active.max() <= 1 and np.count_nonzero(active) <= ACTIVE_FLIPS, f"{scene}: contact counts differ"
+
+
+def test_the_golden_results_are_not_trivial():
+    """Each scene moves and the impact scenes hit: a reference of zeros would test nothing."""
+    for scene in SCENE_NAMES:
+        reference = regenerate.read(regenerate.HERE / f"{scene}.csv")
+        assert np.max(np.abs(reference["corner1.displacement"])) > 1e-3, scene
+        assert np.count_nonzero(reference["contact.active_nodes"]) >= 10, scene
