@@ -1,12 +1,17 @@
 //! Benchmarks (timings and ratios measured in one run; never asserted in tests).
 //!
-//! `cargo run --release --example bench [-- --quick]`
+//! `cargo run --release --example bench [-- --quick | --scale | --case NAME]`
 //!
 //! 1. Assembly of M, K and the load for the paper's 140-element meshes and for ~10k elements.
 //! 2. Stepping the `forced` scene at 35 Hz, Δt = 1e-4 s, 1 s (10⁴ steps) for both elements with
 //!    the automatic (fast) path and, for scale, with clarabel on every step; beside it, the cost of
 //!    the bare bound check (the dense m × n product y = Cq of the modal backend, timed with the
 //!    same routine on a matrix of the same shape), which every exact method pays per step.
+//! 3. Contact at scale: each case runs in a child process of its own (`--case NAME`), so that its
+//!    peak resident memory (VmHWM of /proc/self/status) is its own; it prints set-up time, µs per
+//!    step split into contact-free steps and steps with a QP, and the memory peaks after the
+//!    set-up and after the run. `--scale` runs the size sweep (both elements, 10 × 7 to 100 × 50)
+//!    instead of sections 1 and 2.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, Mat, Par};
@@ -30,7 +35,23 @@ fn mesh_scene(element: ElementKind, nx: usize, ny: usize) -> Scene {
 }
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--quick");
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(k) = args.iter().position(|a| a == "--case") {
+        let name = args.get(k + 1).expect("--case needs a case name");
+        run_case(&case(name));
+        return;
+    }
+    if args.iter().any(|a| a == "--scale") {
+        println!("== cost against size: forced scene at 35 Hz, Δt = 1e-4 s");
+        println!("{}", CaseResult::HEADER);
+        for element in ["argyris", "fvs"] {
+            for (nx, ny) in [(10, 7), (20, 10), (40, 20), (60, 30), (100, 50)] {
+                run_child(&format!("sweep-{element}-{nx}x{ny}"));
+            }
+        }
+        return;
+    }
+    let quick = args.iter().any(|a| a == "--quick");
     println!("== assembly (median of 5 runs)");
     for (element, nx, ny) in [
         (ElementKind::Argyris, 10, 7),
@@ -128,4 +149,170 @@ fn main() {
             reference / per_step
         );
     }
+
+    println!("== contact at scale (each case in a child process)");
+    println!("{}", CaseResult::HEADER);
+    let cases: &[&str] = if quick {
+        &["paper-argyris", "paper-fvs"]
+    } else {
+        &[
+            "paper-argyris",
+            "paper-fvs",
+            "argyris-60x30-forced",
+            "fvs-60x30-released",
+            "fvs-60x30-pressed",
+            "fvs-60x30-flat",
+        ]
+    };
+    for name in cases {
+        run_child(name);
+    }
+}
+
+/// One benchmark case of section 3.
+struct Case {
+    name: String,
+    scene: Scene,
+}
+
+/// The named cases: `paper-argyris`, `paper-fvs` (the paper's meshes on `forced-35hz`, 1 s),
+/// `argyris-60x30-forced` (`forced-35hz` on Argyris 60 × 30, 0.05 s), the FVS 60 × 30 plate
+/// pressed onto the lower obstacle (upper obstacle off, no base motion, 0.02 s) by a 1 MPa preload
+/// and then released (`fvs-60x30-released`) or held (`fvs-60x30-pressed`), or by 10 MPa onto an
+/// obstacle 1 µm below (`fvs-60x30-flat`, nearly every vertex in contact), and `sweep-ELEMENT-NXxNY` (`forced-35hz` on that mesh, 0.02 s).
+fn case(name: &str) -> Case {
+    let forced = |element, nx, ny, stop| {
+        let mut s = mesh_scene(element, nx, ny);
+        s.stop_time = stop;
+        s
+    };
+    let scene = match name {
+        "paper-argyris" => forced(ElementKind::Argyris, 10, 7, 1.0),
+        "paper-fvs" => forced(ElementKind::Fvs, 14, 10, 1.0),
+        "argyris-60x30-forced" => forced(ElementKind::Argyris, 60, 30, 0.05),
+        "fvs-60x30-released" | "fvs-60x30-pressed" | "fvs-60x30-flat" => {
+            let mut s = forced(ElementKind::Fvs, 60, 30, 0.02);
+            s.base.amplitude = 0.0;
+            s.obstacle.upper_enabled = false;
+            s.initial.preload_pressure = -1e6;
+            match name {
+                // Held by the preload pressure during the motion too: a cantilever pressed onto a
+                // flat obstacle 1 cm below lies on it over its last (72Dδ/p)^¼ = 5.7 cm only.
+                "fvs-60x30-pressed" => s.load.pressure = -1e6,
+                // The obstacle 1 µm below and 10 MPa: the contact starts 1.1 cm from the clamp,
+                // so nearly every vertex is in contact.
+                "fvs-60x30-flat" => {
+                    s.obstacle.lower = -1e-6;
+                    s.initial.preload_pressure = -1e7;
+                    s.load.pressure = -1e7;
+                }
+                _ => {}
+            }
+            s
+        }
+        sweep => {
+            let parse = || -> Option<Scene> {
+                let rest = sweep.strip_prefix("sweep-")?;
+                let (element, size) = rest.split_once('-')?;
+                let (nx, ny) = size.split_once('x')?;
+                let element = match element {
+                    "argyris" => ElementKind::Argyris,
+                    "fvs" => ElementKind::Fvs,
+                    _ => return None,
+                };
+                Some(forced(element, nx.parse().ok()?, ny.parse().ok()?, 0.02))
+            };
+            parse().unwrap_or_else(|| panic!("unknown bench case {sweep}"))
+        }
+    };
+    Case {
+        name: name.to_string(),
+        scene,
+    }
+}
+
+/// Runs `bench --case name` in a child process and passes its table row through.
+fn run_child(name: &str) {
+    let exe = std::env::current_exe().expect("the bench knows its own path");
+    let out = std::process::Command::new(exe)
+        .args(["--case", name])
+        .output()
+        .expect("the bench can start itself");
+    print!("{}", String::from_utf8_lossy(&out.stdout));
+    if !out.status.success() {
+        println!(
+            "| {name} | failed: {} |",
+            String::from_utf8_lossy(&out.stderr).trim()
+        );
+    }
+}
+
+/// Peak resident set size of this process so far (MiB), from VmHWM in /proc/self/status.
+fn peak_memory_mib() -> f64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// What one case measured.
+struct CaseResult;
+
+impl CaseResult {
+    const HEADER: &'static str = "| case | backend | free dofs | constrained | assembly s | backend set-up s | \
+                                  steps | µs/step | contact-free steps (µs each) | QP steps (µs each) | \
+                                  most active | peak MiB after set-up | peak MiB at end |\n\
+                                  |---|---|---|---|---|---|---|---|---|---|---|---|---|";
+}
+
+fn run_case(case: &Case) {
+    let s = &case.scene;
+    let t = Instant::now();
+    let plate = PlateSystem::new(s).unwrap();
+    let assembly = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let mut stepper = Stepper::from_system(s, &plate, 0.0).unwrap();
+    let setup = t.elapsed().as_secs_f64();
+    drop(plate);
+    let memory_setup = peak_memory_mib();
+    let steps = (s.stop_time / s.solver.time_step).round() as usize;
+    // (count, seconds) of contact-free steps and of steps with a QP.
+    let mut free = (0usize, 0.0f64);
+    let mut qp = (0usize, 0.0f64);
+    let mut most_active = 0;
+    let t = Instant::now();
+    for n in 1..=steps {
+        let z = s.builtin_base(n as f64 * s.solver.time_step);
+        let t_step = Instant::now();
+        let report = stepper.step(z).unwrap();
+        let elapsed = t_step.elapsed().as_secs_f64();
+        let slot = if report.path == StepPath::Unconstrained {
+            &mut free
+        } else {
+            &mut qp
+        };
+        slot.0 += 1;
+        slot.1 += elapsed;
+        most_active = most_active.max(report.active);
+    }
+    let per_step = t.elapsed().as_secs_f64() / steps as f64;
+    let mean_us = |(count, time): (usize, f64)| 1e6 * time / count.max(1) as f64;
+    println!(
+        "| {} | {:?} | {} | {} | {:.2} | {:.2} | {steps} | {:.1} | {} ({:.1}) | {} ({:.1}) | {most_active} | {:.0} | {:.0} |",
+        case.name,
+        stepper.linear_backend(),
+        stepper.free_dof_count(),
+        stepper.constrained_count(),
+        assembly,
+        setup,
+        1e6 * per_step,
+        free.0,
+        mean_us(free),
+        qp.0,
+        mean_us(qp),
+        memory_setup,
+        peak_memory_mib(),
+    );
 }

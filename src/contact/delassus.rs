@@ -1,0 +1,233 @@
+//! The Delassus operator W = B A⁻¹ Bᵀ (m × m, symmetric positive definite) of the contact problem,
+//! read column by column.
+//!
+//! Column j of W is B A⁻¹ Bᵀ e_j: one solve with A, restricted to the constrained dofs. A
+//! backend with a dense eigenbasis has all of W precomputed ([`DenseDelassus`]); a sparse backend
+//! computes columns on demand and keeps them in one [`DelassusCache`], whose memory is bounded by a
+//! budget stated in bytes: when the columns it may hold are all in use, the least recently used
+//! one is dropped and recomputed if it is needed again.
+//!
+//! W is constant while A and the constrained dofs are (a whole run). An operator may say so with an
+//! [`Delassus::identity`]: two calls that see the same identity see the same W, which lets the
+//! active-set solver keep its factorisation of an active block from one time step to the next.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Column access to the Delassus operator W = B A⁻¹ Bᵀ (m × m, symmetric positive definite).
+pub trait Delassus {
+    /// m, the number of constrained values.
+    fn dim(&self) -> usize;
+    /// Column j of W, of length m. May compute and cache it on first access; the slice is valid
+    /// until the next call.
+    fn column(&mut self, j: usize) -> &[f64];
+    /// An identifier of the values of W, if they never change: every operator that returns the
+    /// same `Some(id)` has the same entries, now and at every later call. `None` (the default)
+    /// promises nothing, and no factorisation is reused across solves.
+    fn identity(&self) -> Option<u64> {
+        None
+    }
+}
+
+/// A fresh identity for [`Delassus::identity`], distinct from every other one of this process.
+pub fn new_identity() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
+/// A precomputed dense W, column-major. Its values never change, so it has an identity.
+#[derive(Clone, Debug)]
+pub struct DenseDelassus {
+    dim: usize,
+    values: Vec<f64>,
+    identity: u64,
+}
+
+impl DenseDelassus {
+    /// W from its m × m entries in column-major order.
+    ///
+    /// # Panics
+    /// If `values.len() != dim * dim`.
+    pub fn new(dim: usize, values: Vec<f64>) -> Self {
+        assert_eq!(values.len(), dim * dim, "DenseDelassus: need dim² values");
+        DenseDelassus {
+            dim,
+            values,
+            identity: new_identity(),
+        }
+    }
+
+    /// W with entries `entry(i, j)`.
+    pub fn from_fn(dim: usize, mut entry: impl FnMut(usize, usize) -> f64) -> Self {
+        let mut values = Vec::with_capacity(dim * dim);
+        for j in 0..dim {
+            for i in 0..dim {
+                values.push(entry(i, j));
+            }
+        }
+        DenseDelassus::new(dim, values)
+    }
+
+    /// Entry (i, j).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.values[i + j * self.dim]
+    }
+}
+
+impl Delassus for DenseDelassus {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn column(&mut self, j: usize) -> &[f64] {
+        &self.values[j * self.dim..(j + 1) * self.dim]
+    }
+
+    fn identity(&self) -> Option<u64> {
+        Some(self.identity)
+    }
+}
+
+/// Default memory budget of a [`DelassusCache`]: 256 MiB, all of W up to m ≈ 5 800 constrained
+/// vertices (a 100 × 57 mesh).
+pub const DEFAULT_DELASSUS_BUDGET: usize = 256 << 20;
+
+/// What a [`DelassusCache`] did so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CacheStats {
+    /// Columns computed (one solve with A each), recomputations included.
+    pub computed: usize,
+    /// Columns dropped to make room.
+    pub evicted: usize,
+    /// Columns held now.
+    pub held: usize,
+}
+
+/// W computed column by column on first use and kept within a memory budget: `compute(j, out)`
+/// must write W e_j = B A⁻¹ Bᵀ e_j (length m) into `out`, and must always write the same values
+/// for the same j (W is the operator of one A for the cache's whole life; make a new cache when A
+/// or the constrained dofs change).
+///
+/// At most ⌊budget / (8 m)⌋ columns (at least one) are held; past that the least recently used
+/// column is dropped. An active set larger than that still solves, at the price of recomputing
+/// columns.
+pub struct DelassusCache<F> {
+    dim: usize,
+    compute: F,
+    /// Column storage, `capacity` slots of m values.
+    store: Vec<f64>,
+    capacity: usize,
+    /// Slot of column j, or `usize::MAX`.
+    slot_of: Vec<usize>,
+    /// Column held in each used slot.
+    column_in: Vec<usize>,
+    /// Last use of each used slot (a counter, larger is later).
+    last_use: Vec<u64>,
+    clock: u64,
+    stats: CacheStats,
+    identity: u64,
+}
+
+impl<F: FnMut(usize, &mut [f64])> DelassusCache<F> {
+    /// An empty cache for an m × m operator that may hold `budget_bytes` of columns.
+    pub fn new(dim: usize, budget_bytes: usize, compute: F) -> Self {
+        let column_bytes = 8 * dim.max(1);
+        let capacity = (budget_bytes / column_bytes).clamp(1, dim.max(1));
+        DelassusCache {
+            dim,
+            compute,
+            store: Vec::new(),
+            capacity,
+            slot_of: vec![usize::MAX; dim],
+            column_in: Vec::new(),
+            last_use: Vec::new(),
+            clock: 0,
+            stats: CacheStats::default(),
+            identity: new_identity(),
+        }
+    }
+
+    /// How many columns may be held at once.
+    pub fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// Counts of computed, evicted and held columns.
+    pub fn stats(&self) -> CacheStats {
+        CacheStats {
+            held: self.column_in.len(),
+            ..self.stats
+        }
+    }
+}
+
+impl<F: FnMut(usize, &mut [f64])> Delassus for DelassusCache<F> {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn column(&mut self, j: usize) -> &[f64] {
+        let m = self.dim;
+        self.clock += 1;
+        let mut slot = self.slot_of[j];
+        if slot == usize::MAX {
+            if self.column_in.len() < self.capacity {
+                slot = self.column_in.len();
+                self.column_in.push(j);
+                self.last_use.push(0);
+                self.store.resize((slot + 1) * m, 0.0);
+            } else {
+                slot = (0..self.capacity)
+                    .min_by_key(|&s| self.last_use[s])
+                    .expect("the capacity is at least one");
+                self.slot_of[self.column_in[slot]] = usize::MAX;
+                self.column_in[slot] = j;
+                self.stats.evicted += 1;
+            }
+            (self.compute)(j, &mut self.store[slot * m..(slot + 1) * m]);
+            self.slot_of[j] = slot;
+            self.stats.computed += 1;
+        }
+        self.last_use[slot] = self.clock;
+        &self.store[slot * m..(slot + 1) * m]
+    }
+
+    fn identity(&self) -> Option<u64> {
+        Some(self.identity)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cache_keeps_the_most_recent_columns_within_its_budget() {
+        // W = diag(1, 2, 3, 4) + 0.5 off the diagonal; room for two columns of four values.
+        let entry = |i: usize, j: usize| if i == j { 1.0 + i as f64 } else { 0.5 };
+        let mut calls = Vec::new();
+        let mut cache = DelassusCache::new(4, 2 * 4 * 8, |j, out: &mut [f64]| {
+            calls.push(j);
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = entry(i, j);
+            }
+        });
+        assert_eq!(cache.capacity(), 2);
+        assert_eq!(cache.column(0)[0], 1.0);
+        assert_eq!(cache.column(1)[1], 2.0);
+        assert_eq!(cache.column(0)[1], 0.5); // held: no recomputation
+        assert_eq!(cache.column(2)[2], 3.0); // evicts column 1, the least recently used
+        assert_eq!(cache.column(0)[0], 1.0);
+        assert_eq!(cache.column(1)[3], 0.5); // recomputed, evicts column 2
+        let stats = cache.stats();
+        assert_eq!(
+            stats,
+            CacheStats {
+                computed: 4,
+                evicted: 2,
+                held: 2
+            }
+        );
+        drop(cache);
+        assert_eq!(calls, [0, 1, 2, 1]);
+    }
+}
