@@ -12,9 +12,19 @@
 //!    step split into contact-free steps and steps with a QP, and the memory peaks after the
 //!    set-up and after the run. `--scale` runs the size sweep (both elements, 10 × 7 to 100 × 50)
 //!    instead of sections 1 and 2.
+//! 4. The sparse contact path of the next phase, prototyped on the library's solvers
+//!    ([`run_prototype`]), against the stepper.
+//!
+//! `--anatomy` times the parts of a sparse step instead (factor size, one solve, one product, and
+//! the memory bandwidth that bounds a solve from below).
 
 use faer::linalg::matmul::matmul;
+use faer::sparse::linalg::matmul::sparse_dense_matmul;
+use faer::sparse::SparseColMat;
+use faer::ColRef;
 use faer::{Accum, Col, Mat, Par};
+use plate_impact::contact::eliminated::EliminatedSystem;
+use plate_impact::contact::{ActiveSetSolver, BoundState, DelassusCache, PdasSettings};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::{QpChoice, Scene};
 use plate_impact::scheme::{StepPath, Stepper};
@@ -38,7 +48,15 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     if let Some(k) = args.iter().position(|a| a == "--case") {
         let name = args.get(k + 1).expect("--case needs a case name");
-        run_case(&case(name));
+        match name.split_once(':') {
+            Some((method, scene)) => run_prototype(&case(scene), method),
+            None => run_case(&case(name)),
+        }
+        return;
+    }
+    if args.iter().any(|a| a == "--anatomy") {
+        println!("== anatomy of a sparse step: A = M + ½Δt²K over all dofs, Δt = 1e-4 s");
+        solve_anatomy();
         return;
     }
     if args.iter().any(|a| a == "--scale") {
@@ -165,6 +183,26 @@ fn main() {
         ]
     };
     for name in cases {
+        run_child(name);
+    }
+    println!(
+        "== the sparse contact path of the next phase, prototyped here on the library's solvers \
+         (each case in a child process; compared with the stepper step by step)"
+    );
+    println!("{}", PROTOTYPE_HEADER);
+    let prototypes: &[&str] = if quick {
+        &["eliminated:fvs-60x30-flat"]
+    } else {
+        &[
+            "delassus:fvs-60x30-flat",
+            "eliminated:fvs-60x30-flat",
+            "delassus:fvs-60x30-released",
+            "eliminated:fvs-60x30-released",
+            "delassus:argyris-60x30-forced",
+            "eliminated:argyris-60x30-forced",
+        ]
+    };
+    for name in prototypes {
         run_child(name);
     }
 }
@@ -315,4 +353,247 @@ fn run_case(case: &Case) {
         memory_setup,
         peak_memory_mib(),
     );
+}
+
+const PROTOTYPE_HEADER: &str =
+    "| method:case | steps | µs/step | contact-free steps (µs each) | QP steps (µs each) | \
+                                most active | factor work | peak MiB | max |u − u_stepper| (m) |\n\
+                                |---|---|---|---|---|---|---|---|---|";
+
+/// out ← out + α A x.
+fn add_product(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, out: &mut [f64]) {
+    sparse_dense_matmul(
+        faer::ColMut::from_slice_mut(out).as_mat_mut(),
+        Accum::Add,
+        a.as_ref(),
+        ColRef::from_slice(x).as_mat(),
+        alpha,
+        Par::Seq,
+    );
+}
+
+/// The contact steps of a sparse backend as the next phase will wire them, on the full dof vector
+/// with the clamp dofs eliminated (held at w = 0): the prediction x* = A⁻¹ b, and on a step that
+/// leaves the box either `delassus` (PDAS on W with columns from a bounded cache, the active
+/// block's factor updated and kept across steps, then x = A⁻¹(b + Bᵀλ)) or `eliminated` (PDAS in
+/// the primal variables, one sparse factorisation per new working set, reused while the set
+/// repeats). Restitution 0, as in the cases above. Each step's constrained displacements are
+/// compared with those of the library's stepper on the same scene.
+fn run_prototype(case: &Case, method: &str) {
+    let s = &case.scene;
+    let plate = PlateSystem::new(s).unwrap();
+    let dt = s.solver.time_step;
+    let a = &plate.mass + &(&plate.stiffness * faer::Scale(0.5 * dt * dt));
+    let constrained: Vec<usize> = plate.constrained.iter().map(|&i| plate.free[i]).collect();
+    let m = constrained.len();
+    let n = a.nrows();
+    let mut m1 = vec![0.0; n];
+    add_product(&plate.mass, &plate.translation, 1.0, &mut m1);
+    // w_0 from the stepper's static preload (free-dof coordinates of its sparse backend).
+    let reference_state = Stepper::from_system(s, &plate, 0.0).unwrap().state();
+    let mut current = vec![0.0; n];
+    for (k, &d) in plate.free.iter().enumerate() {
+        current[d] = reference_state.current[k];
+    }
+    let mut previous = current.clone();
+    let mut predictor = EliminatedSystem::new(&a, &plate.clamp, &constrained).unwrap();
+    let mut columns = EliminatedSystem::new(&a, &plate.clamp, &constrained).unwrap();
+    let mut qp = EliminatedSystem::new(&a, &plate.clamp, &constrained).unwrap();
+    let column_of = constrained.clone();
+    let mut cache = DelassusCache::new(m, 256 << 20, move |js: &[usize], out: &mut [f64]| {
+        // A⁻¹ Bᵀ e_j for every j of the block, in one block solve.
+        let mut block = Mat::zeros(n, js.len());
+        for (q, &j) in js.iter().enumerate() {
+            block[(column_of[j], q)] = 1.0;
+        }
+        columns
+            .solve_unconstrained_in_place(block.as_mut())
+            .unwrap();
+        for (q, out) in out.chunks_mut(m).enumerate() {
+            for (o, &c) in out.iter_mut().zip(&column_of) {
+                *o = block[(c, q)];
+            }
+        }
+    });
+    let mut solver = ActiveSetSolver::new();
+    let mut states = vec![BoundState::Free; m];
+    let (mut b, mut x_star, mut next) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut y_star, mut lower, mut upper) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+    let steps = (s.stop_time / dt).round() as usize;
+    let mut trajectory = Vec::with_capacity(steps);
+    let (mut free, mut constrained_steps) = ((0usize, 0.0f64), (0usize, 0.0f64));
+    let mut most_active = 0;
+    let mut bases = [0.0, 0.0];
+    let t = Instant::now();
+    for step in 1..=steps {
+        let t_step = Instant::now();
+        let z = s.builtin_base(step as f64 * dt);
+        let p = s.load.pressure;
+        let start = step == 1;
+        let [z_prev, z_curr] = bases;
+        // The scheme's forcing (start step: v_0 = 0, the load read as (p_1 + p_0)/2).
+        let (load, base) = if start {
+            (0.25 * dt * dt * 2.0 * p, -(z - z_curr))
+        } else {
+            (0.5 * dt * dt * 2.0 * p, -(z - 2.0 * z_curr + z_prev))
+        };
+        for ((bi, &f), &mi) in b.iter_mut().zip(&plate.unit_load).zip(&m1) {
+            *bi = load * f + base * mi;
+        }
+        if start {
+            add_product(&plate.mass, &current, 1.0, &mut b);
+        } else {
+            add_product(&plate.mass, &current, 2.0, &mut b);
+            add_product(&a, &previous, -1.0, &mut b);
+        }
+        predictor.solve_unconstrained(&b, &mut x_star).unwrap();
+        for i in 0..m {
+            y_star[i] = x_star[constrained[i]];
+            lower[i] = s.lower_obstacle().map_or(f64::NEG_INFINITY, |g| g - z);
+            upper[i] = s.upper_obstacle().map_or(f64::INFINITY, |g| g - z);
+        }
+        let feasible = (0..m).all(|i| y_star[i] >= lower[i] && y_star[i] <= upper[i]);
+        let settings = PdasSettings::default();
+        if feasible {
+            next.copy_from_slice(&x_star);
+            states.fill(BoundState::Free);
+        } else if method == "delassus" {
+            let report = solver.solve(&mut cache, &y_star, &lower, &upper, &mut states, &settings);
+            assert!(report.status.is_solved(), "{report:?}");
+            let mut rhs = b.clone();
+            for (i, &l) in solver.lambda().iter().enumerate() {
+                rhs[constrained[i]] += l;
+            }
+            predictor.solve_unconstrained(&rhs, &mut next).unwrap();
+        } else {
+            qp.set_step(&b, &x_star);
+            let report =
+                solver.solve_with(&mut qp, &y_star, &lower, &upper, &mut states, &settings);
+            assert!(report.status.is_solved(), "{report:?}");
+            next.copy_from_slice(qp.x());
+        }
+        std::mem::swap(&mut previous, &mut current);
+        std::mem::swap(&mut current, &mut next);
+        bases = [z_curr, z];
+        let elapsed = t_step.elapsed().as_secs_f64();
+        let slot = if feasible {
+            &mut free
+        } else {
+            &mut constrained_steps
+        };
+        slot.0 += 1;
+        slot.1 += elapsed;
+        most_active = most_active.max(states.iter().filter(|s| s.is_active()).count());
+        trajectory.push(
+            constrained
+                .iter()
+                .map(|&c| z + current[c])
+                .collect::<Vec<f64>>(),
+        );
+    }
+    let per_step = t.elapsed().as_secs_f64() / steps as f64;
+    let memory = peak_memory_mib();
+    let work = if method == "delassus" {
+        let f = solver.factor().stats();
+        let c = cache.stats();
+        format!(
+            "{} columns in {} solves, {} full factorisations, {} appended, {} deleted, {} reused",
+            c.computed, c.blocks, f.full, f.appended, f.deleted, f.reused
+        )
+    } else {
+        format!("{} sparse factorisations", qp.stats().factorizations)
+    };
+    // The library's stepper on the same scene, for the trajectory check.
+    let mut reference = Stepper::from_system(s, &plate, 0.0).unwrap();
+    let mut worst = 0.0_f64;
+    for (step, expected) in trajectory.iter().enumerate() {
+        reference
+            .step(s.builtin_base((step + 1) as f64 * dt))
+            .unwrap();
+        for (u, v) in reference.constrained_displacements().iter().zip(expected) {
+            worst = worst.max((u - v).abs());
+        }
+    }
+    let mean_us = |(count, time): (usize, f64)| 1e6 * time / count.max(1) as f64;
+    println!(
+        "| {method}:{} | {steps} | {:.1} | {} ({:.1}) | {} ({:.1}) | {most_active} | {work} | {memory:.0} | {worst:.1e} |",
+        case.name,
+        1e6 * per_step,
+        free.0,
+        mean_us(free),
+        constrained_steps.0,
+        mean_us(constrained_steps),
+    );
+}
+
+/// Median seconds of `reps` runs of `f`.
+fn time_median(reps: usize, mut f: impl FnMut()) -> f64 {
+    median(
+        (0..reps)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64()
+            })
+            .collect(),
+    )
+}
+
+fn solve_anatomy() {
+    use faer::linalg::solvers::Solve;
+    use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymmetricOrdering};
+    // Bandwidth: summing a 256 MiB array, the way a triangular solve streams its factor.
+    let big = vec![1.0_f64; 32 << 20];
+    let read = time_median(5, || {
+        std::hint::black_box(big.iter().sum::<f64>());
+    });
+    let bandwidth = (big.len() * 8) as f64 / read;
+    drop(big);
+    println!(
+        "memory read bandwidth (one core, summing 256 MiB): {:.1} GB/s",
+        bandwidth / 1e9
+    );
+    println!(
+        "| mesh | dofs | nnz(A) | nnz(L) | L MiB | numeric factorisation ms | one solve ms | \
+         streaming L twice ms | product A·x ms |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    for (element, nx, ny) in [
+        (ElementKind::Fvs, 60, 30),
+        (ElementKind::Argyris, 60, 30),
+        (ElementKind::Fvs, 100, 50),
+        (ElementKind::Argyris, 100, 50),
+    ] {
+        let s = mesh_scene(element, nx, ny);
+        let plate = PlateSystem::new(&s).unwrap();
+        let dt = s.solver.time_step;
+        let a = &plate.mass + &(&plate.stiffness * faer::Scale(0.5 * dt * dt));
+        let n = a.nrows();
+        let symbolic = factorize_symbolic_cholesky(
+            a.symbolic(),
+            faer::Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .unwrap();
+        let entries = symbolic.len_val();
+        let factor_time = time_median(3, || {
+            std::hint::black_box(a.sp_cholesky(faer::Side::Lower).unwrap());
+        });
+        let llt = a.sp_cholesky(faer::Side::Lower).unwrap();
+        let mut x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let solve = time_median(21, || {
+            llt.solve_in_place(faer::ColMut::from_slice_mut(&mut x).as_mat_mut());
+        });
+        let mut y = vec![0.0; n];
+        let product = time_median(21, || add_product(&a, &x, 1.0, &mut y));
+        println!(
+            "| {element:?} {nx}×{ny} | {n} | {} | {entries} | {:.1} | {:.1} | {:.2} | {:.2} | {:.3} |",
+            a.compute_nnz(),
+            (entries * 8) as f64 / (1 << 20) as f64,
+            1e3 * factor_time,
+            1e3 * solve,
+            1e3 * 2.0 * (entries * 8) as f64 / bandwidth,
+            1e3 * product,
+        );
+    }
 }

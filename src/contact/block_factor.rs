@@ -140,6 +140,7 @@ impl ActiveBlockFactor {
             return self.factor_from_scratch(w, active);
         }
         self.delete(&removed);
+        w.prefetch(&added);
         for &j in &added {
             if self.append(w, j).is_err() {
                 // Lost positivity to round-off in the update: the full factorisation decides.
@@ -202,6 +203,7 @@ impl ActiveBlockFactor {
         self.order.clear();
         let k = active.len();
         self.reserve(k);
+        w.prefetch(active);
         for (q, &j) in active.iter().enumerate() {
             let col = w.column(j);
             for (p, &i) in active.iter().enumerate().skip(q) {

@@ -26,6 +26,12 @@ pub trait Delassus {
     fn identity(&self) -> Option<u64> {
         None
     }
+    /// A hint that the columns `columns` are about to be read: an operator that computes columns
+    /// may compute them together (one block solve streams the factor of A once for all of them).
+    /// The default does nothing.
+    fn prefetch(&mut self, columns: &[usize]) {
+        let _ = columns;
+    }
 }
 
 /// A fresh identity for [`Delassus::identity`], distinct from every other one of this process.
@@ -91,21 +97,32 @@ impl Delassus for DenseDelassus {
 /// vertices (a 100 × 57 mesh).
 pub const DEFAULT_DELASSUS_BUDGET: usize = 256 << 20;
 
+/// Most columns computed by one call of a [`DelassusCache`]'s `compute` (its workspace is
+/// m × this many values).
+pub const PREFETCH_BLOCK: usize = 32;
+
+/// Mark of a column listed for a prefetch but not yet held.
+const PENDING: usize = usize::MAX - 1;
+
 /// What a [`DelassusCache`] did so far.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CacheStats {
     /// Columns computed (one solve with A each), recomputations included.
     pub computed: usize,
+    /// Calls of `compute` (block solves).
+    pub blocks: usize,
     /// Columns dropped to make room.
     pub evicted: usize,
     /// Columns held now.
     pub held: usize,
 }
 
-/// W computed column by column on first use and kept within a memory budget: `compute(j, out)`
-/// must write W e_j = B A⁻¹ Bᵀ e_j (length m) into `out`, and must always write the same values
-/// for the same j (W is the operator of one A for the cache's whole life; make a new cache when A
-/// or the constrained dofs change).
+/// W computed column by column on first use and kept within a memory budget:
+/// `compute(js, out)` must write the columns W e_j = B A⁻¹ Bᵀ e_j for j in `js` into `out`
+/// (m × js.len(), column-major), and must always write the same values for the same j (W is the
+/// operator of one A for the cache's whole life; make a new cache when A or the constrained dofs
+/// change). [`Delassus::prefetch`] computes the missing columns in blocks of [`PREFETCH_BLOCK`]
+/// per call of `compute`.
 ///
 /// At most ⌊budget / (8 m)⌋ columns (at least one) are held; past that the least recently used
 /// column is dropped. An active set larger than that still solves, at the price of recomputing
@@ -125,9 +142,12 @@ pub struct DelassusCache<F> {
     clock: u64,
     stats: CacheStats,
     identity: u64,
+    /// Workspace of [`Delassus::prefetch`].
+    batch: Vec<f64>,
+    missing: Vec<usize>,
 }
 
-impl<F: FnMut(usize, &mut [f64])> DelassusCache<F> {
+impl<F: FnMut(&[usize], &mut [f64])> DelassusCache<F> {
     /// An empty cache for an m × m operator that may hold `budget_bytes` of columns.
     pub fn new(dim: usize, budget_bytes: usize, compute: F) -> Self {
         let column_bytes = 8 * dim.max(1);
@@ -143,7 +163,31 @@ impl<F: FnMut(usize, &mut [f64])> DelassusCache<F> {
             clock: 0,
             stats: CacheStats::default(),
             identity: new_identity(),
+            batch: Vec::new(),
+            missing: Vec::new(),
         }
+    }
+
+    /// A slot for column j (free, or the least recently used one, whose column is dropped),
+    /// marked as used now.
+    fn claim_slot(&mut self, j: usize) -> usize {
+        let slot = if self.column_in.len() < self.capacity {
+            self.column_in.push(j);
+            self.last_use.push(0);
+            self.store.resize(self.column_in.len() * self.dim, 0.0);
+            self.column_in.len() - 1
+        } else {
+            let slot = (0..self.capacity)
+                .min_by_key(|&s| self.last_use[s])
+                .expect("the capacity is at least one");
+            self.slot_of[self.column_in[slot]] = usize::MAX;
+            self.column_in[slot] = j;
+            self.stats.evicted += 1;
+            slot
+        };
+        self.slot_of[j] = slot;
+        self.last_use[slot] = self.clock;
+        slot
     }
 
     /// How many columns may be held at once.
@@ -160,7 +204,7 @@ impl<F: FnMut(usize, &mut [f64])> DelassusCache<F> {
     }
 }
 
-impl<F: FnMut(usize, &mut [f64])> Delassus for DelassusCache<F> {
+impl<F: FnMut(&[usize], &mut [f64])> Delassus for DelassusCache<F> {
     fn dim(&self) -> usize {
         self.dim
     }
@@ -170,22 +214,10 @@ impl<F: FnMut(usize, &mut [f64])> Delassus for DelassusCache<F> {
         self.clock += 1;
         let mut slot = self.slot_of[j];
         if slot == usize::MAX {
-            if self.column_in.len() < self.capacity {
-                slot = self.column_in.len();
-                self.column_in.push(j);
-                self.last_use.push(0);
-                self.store.resize((slot + 1) * m, 0.0);
-            } else {
-                slot = (0..self.capacity)
-                    .min_by_key(|&s| self.last_use[s])
-                    .expect("the capacity is at least one");
-                self.slot_of[self.column_in[slot]] = usize::MAX;
-                self.column_in[slot] = j;
-                self.stats.evicted += 1;
-            }
-            (self.compute)(j, &mut self.store[slot * m..(slot + 1) * m]);
-            self.slot_of[j] = slot;
+            slot = self.claim_slot(j);
+            (self.compute)(&[j], &mut self.store[slot * m..(slot + 1) * m]);
             self.stats.computed += 1;
+            self.stats.blocks += 1;
         }
         self.last_use[slot] = self.clock;
         &self.store[slot * m..(slot + 1) * m]
@@ -193,6 +225,44 @@ impl<F: FnMut(usize, &mut [f64])> Delassus for DelassusCache<F> {
 
     fn identity(&self) -> Option<u64> {
         Some(self.identity)
+    }
+
+    fn prefetch(&mut self, columns: &[usize]) {
+        let m = self.dim;
+        self.clock += 1;
+        // The missing columns, no more than the cache holds, in blocks of PREFETCH_BLOCK.
+        let mut missing = std::mem::take(&mut self.missing);
+        missing.clear();
+        for &j in columns {
+            if missing.len() == self.capacity {
+                break;
+            }
+            if self.slot_of[j] == usize::MAX {
+                self.slot_of[j] = PENDING;
+                missing.push(j);
+            }
+        }
+        for block in missing.chunks(PREFETCH_BLOCK) {
+            if block.len() < 2 {
+                break; // one column costs the same through `column`
+            }
+            let r = block.len();
+            self.batch.resize(m * r, 0.0);
+            (self.compute)(block, &mut self.batch);
+            self.stats.computed += r;
+            self.stats.blocks += 1;
+            for (q, &j) in block.iter().enumerate() {
+                let slot = self.claim_slot(j);
+                self.store[slot * m..(slot + 1) * m]
+                    .copy_from_slice(&self.batch[q * m..(q + 1) * m]);
+            }
+        }
+        for &j in &missing {
+            if self.slot_of[j] == PENDING {
+                self.slot_of[j] = usize::MAX;
+            }
+        }
+        self.missing = missing;
     }
 }
 
@@ -205,10 +275,12 @@ mod tests {
         // W = diag(1, 2, 3, 4) + 0.5 off the diagonal; room for two columns of four values.
         let entry = |i: usize, j: usize| if i == j { 1.0 + i as f64 } else { 0.5 };
         let mut calls = Vec::new();
-        let mut cache = DelassusCache::new(4, 2 * 4 * 8, |j, out: &mut [f64]| {
-            calls.push(j);
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = entry(i, j);
+        let mut cache = DelassusCache::new(4, 2 * 4 * 8, |js: &[usize], out: &mut [f64]| {
+            calls.extend_from_slice(js);
+            for (q, &j) in js.iter().enumerate() {
+                for (i, o) in out[4 * q..4 * (q + 1)].iter_mut().enumerate() {
+                    *o = entry(i, j);
+                }
             }
         });
         assert_eq!(cache.capacity(), 2);
@@ -218,16 +290,21 @@ mod tests {
         assert_eq!(cache.column(2)[2], 3.0); // evicts column 1, the least recently used
         assert_eq!(cache.column(0)[0], 1.0);
         assert_eq!(cache.column(1)[3], 0.5); // recomputed, evicts column 2
+                                             // A prefetch of two missing columns: one block, both held afterwards.
+        cache.prefetch(&[2, 3, 1]);
+        assert_eq!(cache.column(3)[3], 4.0);
+        assert_eq!(cache.column(2)[0], 0.5);
         let stats = cache.stats();
         assert_eq!(
             stats,
             CacheStats {
-                computed: 4,
-                evicted: 2,
+                computed: 6,
+                blocks: 5,
+                evicted: 4,
                 held: 2
             }
         );
         drop(cache);
-        assert_eq!(calls, [0, 1, 2, 1]);
+        assert_eq!(calls, [0, 1, 2, 1, 2, 3]);
     }
 }
