@@ -58,37 +58,50 @@ pub trait WorkingSetSolver {
     fn refine(&mut self, active: &[usize], bound: &[f64], lambda: &mut [f64], y: &mut [f64]);
 }
 
-/// [`WorkingSetSolver`] on a Delassus operator: the factor of W_𝒜𝒜 updated as the set changes,
-/// y = y* + W λ from the columns of the active indices.
-pub struct DelassusWorkingSet<'a, D: Delassus + ?Sized> {
-    w: &'a mut D,
-    y_star: &'a [f64],
-    factor: &'a mut ActiveBlockFactor,
+/// What [`DelassusWorkingSet`] keeps between solves: the factor of the active block and two
+/// workspaces.
+#[derive(Clone, Debug, Default)]
+pub struct DelassusWorkspace {
+    factor: ActiveBlockFactor,
     /// Right-hand side in the factor's order, then λ_𝒜.
     rhs: Vec<f64>,
     /// Bound value of each active index, by index.
     bound_of: Vec<f64>,
 }
 
+impl DelassusWorkspace {
+    /// An empty workspace.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The factor of the active block and what it did.
+    pub fn factor(&self) -> &ActiveBlockFactor {
+        &self.factor
+    }
+}
+
+/// [`WorkingSetSolver`] on a Delassus operator: the factor of W_𝒜𝒜 updated as the set changes,
+/// y = y* + W λ from the columns of the active indices.
+pub struct DelassusWorkingSet<'a, D: Delassus + ?Sized> {
+    w: &'a mut D,
+    y_star: &'a [f64],
+    work: &'a mut DelassusWorkspace,
+}
+
 impl<'a, D: Delassus + ?Sized> DelassusWorkingSet<'a, D> {
-    /// The subproblems of W with unconstrained values `y_star`, factored in `factor` (which is
-    /// kept if it belongs to the same `w`, see [`Delassus::identity`]).
-    pub fn new(w: &'a mut D, y_star: &'a [f64], factor: &'a mut ActiveBlockFactor) -> Self {
-        factor.adopt(&*w);
-        let m = w.dim();
-        DelassusWorkingSet {
-            w,
-            y_star,
-            factor,
-            rhs: Vec::new(),
-            bound_of: vec![0.0; m],
-        }
+    /// The subproblems of W with unconstrained values `y_star`, in `work` (whose factor is kept if
+    /// it belongs to the same `w`, see [`Delassus::identity`]).
+    pub fn new(w: &'a mut D, y_star: &'a [f64], work: &'a mut DelassusWorkspace) -> Self {
+        work.factor.adopt(&*w);
+        work.bound_of.resize(w.dim(), 0.0);
+        DelassusWorkingSet { w, y_star, work }
     }
 
     /// y = y* + Σ_j λ_j W e_j over the factor's indices.
     fn constrained_values(&mut self, lambda: &[f64], y: &mut [f64]) {
         y.copy_from_slice(self.y_star);
-        for &j in self.factor.order() {
+        for &j in self.work.factor.order() {
             let l = lambda[j];
             for (yi, ci) in y.iter_mut().zip(self.w.column(j)) {
                 *yi += l * ci;
@@ -110,18 +123,19 @@ impl<D: Delassus + ?Sized> WorkingSetSolver for DelassusWorkingSet<'_, D> {
         y: &mut [f64],
         scale: &mut [f64],
     ) -> Result<(), NotPositiveDefinite> {
-        self.factor.sync(self.w, active)?;
+        let work = &mut *self.work;
+        work.factor.sync(self.w, active)?;
         for (&i, &b) in active.iter().zip(bound) {
-            self.bound_of[i] = b;
+            work.bound_of[i] = b;
             scale[i] = self.w.column(i)[i];
         }
-        self.rhs.clear();
-        let (y_star, bound_of) = (self.y_star, &self.bound_of);
-        self.rhs
-            .extend(self.factor.order().iter().map(|&i| bound_of[i] - y_star[i]));
-        self.factor.solve_in_place(&mut self.rhs);
+        work.rhs.clear();
+        let (y_star, bound_of) = (self.y_star, &work.bound_of);
+        work.rhs
+            .extend(work.factor.order().iter().map(|&i| bound_of[i] - y_star[i]));
+        work.factor.solve_in_place(&mut work.rhs);
         lambda.fill(0.0);
-        for (&i, &l) in self.factor.order().iter().zip(&self.rhs) {
+        for (&i, &l) in work.factor.order().iter().zip(&work.rhs) {
             lambda[i] = l;
         }
         self.constrained_values(lambda, y);
@@ -129,15 +143,16 @@ impl<D: Delassus + ?Sized> WorkingSetSolver for DelassusWorkingSet<'_, D> {
     }
 
     fn refine(&mut self, _active: &[usize], _bound: &[f64], lambda: &mut [f64], y: &mut [f64]) {
-        if self.factor.order().is_empty() {
+        let work = &mut *self.work;
+        if work.factor.order().is_empty() {
             return;
         }
-        self.rhs.clear();
-        let bound_of = &self.bound_of;
-        self.rhs
-            .extend(self.factor.order().iter().map(|&i| bound_of[i] - y[i]));
-        self.factor.solve_in_place(&mut self.rhs);
-        for (&i, &d) in self.factor.order().iter().zip(&self.rhs) {
+        work.rhs.clear();
+        let bound_of = &work.bound_of;
+        work.rhs
+            .extend(work.factor.order().iter().map(|&i| bound_of[i] - y[i]));
+        work.factor.solve_in_place(&mut work.rhs);
+        for (&i, &d) in work.factor.order().iter().zip(&work.rhs) {
             lambda[i] += d;
         }
         // Recompute y from scratch rather than adding a correction: one rounding fewer.
@@ -258,8 +273,8 @@ pub struct ActiveSetSolver {
     active: Vec<usize>,
     /// Their bound values.
     bound: Vec<f64>,
-    /// The factor of W_𝒜𝒜 used by [`ActiveSetSolver::solve`].
-    factor: ActiveBlockFactor,
+    /// The factor of W_𝒜𝒜 and workspaces used by [`ActiveSetSolver::solve`].
+    delassus: DelassusWorkspace,
     /// The scale s_i ≤ W_ii of each active index (see [`WorkingSetSolver::solve`]).
     diag: Vec<f64>,
     /// Hashes of the working sets visited by PDAS in this solve.
@@ -276,7 +291,7 @@ impl ActiveSetSolver {
 
     /// The factor of the active block and what it did (for benchmarks and tests).
     pub fn factor(&self) -> &ActiveBlockFactor {
-        &self.factor
+        &self.delassus.factor
     }
 
     /// λ of the last solve (length m).
@@ -306,12 +321,12 @@ impl ActiveSetSolver {
         states: &mut [BoundState],
         settings: &PdasSettings,
     ) -> PdasReport {
-        let mut factor = std::mem::take(&mut self.factor);
+        let mut work = std::mem::take(&mut self.delassus);
         let report = {
-            let mut subproblems = DelassusWorkingSet::new(w, y_star, &mut factor);
+            let mut subproblems = DelassusWorkingSet::new(w, y_star, &mut work);
             self.solve_with(&mut subproblems, y_star, lower, upper, states, settings)
         };
-        self.factor = factor;
+        self.delassus = work;
         report
     }
 

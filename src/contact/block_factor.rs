@@ -22,7 +22,9 @@
 use super::Delassus;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt;
-use faer::linalg::triangular_solve::solve_unit_lower_triangular_in_place;
+use faer::linalg::triangular_solve::{
+    solve_unit_lower_triangular_in_place, solve_unit_upper_triangular_in_place,
+};
 use faer::{ColMut, Mat, Par};
 
 /// Updates (indices appended or deleted) allowed between two full factorisations.
@@ -64,6 +66,8 @@ pub struct ActiveBlockFactor {
     /// Workspaces.
     column: Vec<f64>,
     marked: Vec<bool>,
+    removed: Vec<usize>,
+    added: Vec<usize>,
 }
 
 impl Default for ActiveBlockFactor {
@@ -78,6 +82,8 @@ impl Default for ActiveBlockFactor {
             stats: FactorStats::default(),
             column: Vec::new(),
             marked: Vec::new(),
+            removed: Vec::new(),
+            added: Vec::new(),
         }
     }
 }
@@ -119,17 +125,34 @@ impl ActiveBlockFactor {
         for &i in active {
             self.marked[i] = true;
         }
-        let removed: Vec<usize> = (0..self.order.len())
-            .filter(|&p| !self.marked[self.order[p]])
-            .collect();
-        let added: Vec<usize> = active
-            .iter()
-            .copied()
-            .filter(|&i| self.position[i] == usize::MAX)
-            .collect();
+        let mut removed = std::mem::take(&mut self.removed);
+        let mut added = std::mem::take(&mut self.added);
+        removed.clear();
+        removed.extend((0..self.order.len()).filter(|&p| !self.marked[self.order[p]]));
+        added.clear();
+        added.extend(
+            active
+                .iter()
+                .copied()
+                .filter(|&i| self.position[i] == usize::MAX),
+        );
         for &i in active {
             self.marked[i] = false;
         }
+        let result = self.apply_changes(w, active, &removed, &added);
+        self.removed = removed;
+        self.added = added;
+        result
+    }
+
+    /// The work of [`Self::sync`] once the changes are known.
+    fn apply_changes<D: Delassus + ?Sized>(
+        &mut self,
+        w: &mut D,
+        active: &[usize],
+        removed: &[usize],
+        added: &[usize],
+    ) -> Result<(), NotPositiveDefinite> {
         let changes = removed.len() + added.len();
         self.unchanged = changes == 0;
         if changes == 0 {
@@ -139,9 +162,9 @@ impl ActiveBlockFactor {
         if 3 * changes > active.len() || self.updates + changes > MAX_UPDATES {
             return self.factor_from_scratch(w, active);
         }
-        self.delete(&removed);
-        w.prefetch(&added);
-        for &j in &added {
+        self.delete(removed);
+        w.prefetch(added);
+        for &j in added {
             if self.append(w, j).is_err() {
                 // Lost positivity to round-off in the update: the full factorisation decides.
                 return self.factor_from_scratch(w, active);
@@ -167,14 +190,16 @@ impl ActiveBlockFactor {
         if k == 0 {
             return;
         }
+        // L z = r, z ← D⁻¹ z, Lᵀ x = z.
         let l = self.ld.as_ref().submatrix(0, 0, k, k);
-        let mut stack = MemBuffer::new(ldlt::solve::solve_in_place_scratch::<f64>(k, 1, Par::Seq));
-        ldlt::solve::solve_in_place(
-            l,
-            l.diagonal(),
+        solve_unit_lower_triangular_in_place(l, ColMut::from_slice_mut(r).as_mat_mut(), Par::Seq);
+        for (p, v) in r.iter_mut().enumerate() {
+            *v /= l[(p, p)];
+        }
+        solve_unit_upper_triangular_in_place(
+            l.transpose(),
             ColMut::from_slice_mut(r).as_mat_mut(),
             Par::Seq,
-            MemStack::new(&mut stack),
         );
     }
 
@@ -212,17 +237,17 @@ impl ActiveBlockFactor {
         }
         self.stats.full += 1;
         self.updates = 0;
-        let block = self.ld.as_mut().submatrix_mut(0, 0, k, k);
-        let mut stack = MemBuffer::new(ldlt::factor::cholesky_in_place_scratch::<f64>(
+        let mut buffer = MemBuffer::new(ldlt::factor::cholesky_in_place_scratch::<f64>(
             k,
             Par::Seq,
             Default::default(),
         ));
+        let block = self.ld.as_mut().submatrix_mut(0, 0, k, k);
         let result = ldlt::factor::cholesky_in_place(
             block,
             Default::default(),
             Par::Seq,
-            MemStack::new(&mut stack),
+            MemStack::new(&mut buffer),
             Default::default(),
         );
         let positive = (0..k).all(|p| {
