@@ -23,12 +23,15 @@ use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::SparseColMat;
 use faer::ColRef;
 use faer::{Accum, Col, Mat, Par};
+use plate_impact::contact::delassus::DEFAULT_DELASSUS_BUDGET;
 use plate_impact::contact::eliminated::EliminatedSystem;
-use plate_impact::contact::{ActiveSetSolver, BoundState, DelassusCache, PdasSettings};
+use plate_impact::contact::sparse_contact::{SparseContact, Subproblem};
+use plate_impact::contact::{BoundState, PdasSettings};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::{QpChoice, Scene};
 use plate_impact::scheme::{StepPath, Stepper};
 use plate_impact::system::PlateSystem;
+use std::sync::Arc;
 use std::time::Instant;
 
 fn median(mut xs: Vec<f64>) -> f64 {
@@ -191,9 +194,13 @@ fn main() {
     );
     println!("{}", PROTOTYPE_HEADER);
     let prototypes: &[&str] = if quick {
-        &["eliminated:fvs-60x30-flat"]
+        &["auto:fvs-60x30-flat"]
     } else {
         &[
+            "auto:fvs-60x30-flat",
+            "auto:fvs-60x30-pressed",
+            "auto:fvs-60x30-released",
+            "auto:argyris-60x30-forced",
             "delassus:fvs-60x30-flat",
             "eliminated:fvs-60x30-flat",
             "delassus:fvs-60x30-pressed",
@@ -374,13 +381,14 @@ fn add_product(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, out: &mut [f
     );
 }
 
-/// The contact steps of a sparse backend as the next phase will wire them, on the full dof vector
-/// with the clamp dofs eliminated (held at w = 0): the prediction x* = A⁻¹ b, and on a step that
-/// leaves the box either `delassus` (PDAS on W with columns from a bounded cache, the active
-/// block's factor updated and kept across steps, then x = A⁻¹(b + Bᵀλ)) or `eliminated` (PDAS in
-/// the primal variables, one sparse factorisation per new working set, reused while the set
-/// repeats). Restitution 0, as in the cases above. Each step's constrained displacements are
-/// compared with those of the library's stepper on the same scene.
+/// The contact steps of a sparse backend as the next phase will wire them, through
+/// [`SparseContact`], on the full dof vector with the clamp dofs eliminated (held at w = 0): the
+/// prediction x* = A⁻¹ b, and on a step that leaves the box the QP by the subproblem `method`
+/// names: `delassus` (PDAS on W with columns from the bounded cache, the active block's factor
+/// updated and kept across steps, then x = A⁻¹(b + Bᵀλ)), `eliminated` (PDAS in the primal
+/// variables, one sparse factorisation per new working set, reused while the set repeats) or
+/// `auto` (the rule of [`SparseContact`]). Restitution 0, as in the cases above. Each step's
+/// constrained displacements are compared with those of the library's stepper on the same scene.
 fn run_prototype(case: &Case, method: &str) {
     let s = &case.scene;
     let plate = PlateSystem::new(s).unwrap();
@@ -398,34 +406,29 @@ fn run_prototype(case: &Case, method: &str) {
         current[d] = reference_state.current[k];
     }
     let mut previous = current.clone();
-    let mut predictor = EliminatedSystem::new(&a, &plate.clamp, &constrained).unwrap();
-    let mut columns = EliminatedSystem::new(&a, &plate.clamp, &constrained).unwrap();
-    let mut qp = EliminatedSystem::new(&a, &plate.clamp, &constrained).unwrap();
-    let column_of = constrained.clone();
-    let mut cache = DelassusCache::new(m, 256 << 20, move |js: &[usize], out: &mut [f64]| {
-        // A⁻¹ Bᵀ e_j for every j of the block, in one block solve.
-        let mut block = Mat::zeros(n, js.len());
-        for (q, &j) in js.iter().enumerate() {
-            block[(column_of[j], q)] = 1.0;
-        }
-        columns
-            .solve_unconstrained_in_place(block.as_mut())
-            .unwrap();
-        for (q, out) in out.chunks_mut(m).enumerate() {
-            for (o, &c) in out.iter_mut().zip(&column_of) {
-                *o = block[(c, q)];
-            }
-        }
-    });
-    let mut solver = ActiveSetSolver::new();
+    let a = Arc::new(a);
+    let mut contact = SparseContact::new(
+        a.clone(),
+        &plate.clamp,
+        &constrained,
+        DEFAULT_DELASSUS_BUDGET,
+    )
+    .unwrap();
+    match method {
+        "delassus" => contact.force(Subproblem::Delassus),
+        "eliminated" => contact.force(Subproblem::Eliminated),
+        "auto" => {}
+        other => panic!("unknown method {other}"),
+    }
     let mut states = vec![BoundState::Free; m];
     let (mut b, mut x_star, mut next) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let (mut y_star, mut lower, mut upper) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+    let (mut lower, mut upper) = (vec![0.0; m], vec![0.0; m]);
     let steps = (s.stop_time / dt).round() as usize;
     let mut trajectory = Vec::with_capacity(steps);
     let (mut free, mut constrained_steps) = ((0usize, 0.0f64), (0usize, 0.0f64));
     let mut most_active = 0;
     let mut bases = [0.0, 0.0];
+    let settings = PdasSettings::default();
     let t = Instant::now();
     for step in 1..=steps {
         let t_step = Instant::now();
@@ -448,31 +451,29 @@ fn run_prototype(case: &Case, method: &str) {
             add_product(&plate.mass, &current, 2.0, &mut b);
             add_product(&a, &previous, -1.0, &mut b);
         }
-        predictor.solve_unconstrained(&b, &mut x_star).unwrap();
-        for i in 0..m {
-            y_star[i] = x_star[constrained[i]];
-            lower[i] = s.lower_obstacle().map_or(f64::NEG_INFINITY, |g| g - z);
-            upper[i] = s.upper_obstacle().map_or(f64::INFINITY, |g| g - z);
-        }
-        let feasible = (0..m).all(|i| y_star[i] >= lower[i] && y_star[i] <= upper[i]);
-        let settings = PdasSettings::default();
+        contact.solve_unconstrained(&b, &mut x_star).unwrap();
+        lower.fill(s.lower_obstacle().map_or(f64::NEG_INFINITY, |g| g - z));
+        upper.fill(s.upper_obstacle().map_or(f64::INFINITY, |g| g - z));
+        let feasible = (0..m).all(|i| {
+            let y = x_star[constrained[i]];
+            y >= lower[i] && y <= upper[i]
+        });
         if feasible {
             next.copy_from_slice(&x_star);
             states.fill(BoundState::Free);
-        } else if method == "delassus" {
-            let report = solver.solve(&mut cache, &y_star, &lower, &upper, &mut states, &settings);
-            assert!(report.status.is_solved(), "{report:?}");
-            let mut rhs = b.clone();
-            for (i, &l) in solver.lambda().iter().enumerate() {
-                rhs[constrained[i]] += l;
-            }
-            predictor.solve_unconstrained(&rhs, &mut next).unwrap();
         } else {
-            qp.set_step(&b, &x_star);
-            let report =
-                solver.solve_with(&mut qp, &y_star, &lower, &upper, &mut states, &settings);
+            let report = contact
+                .solve(
+                    &b,
+                    &x_star,
+                    &lower,
+                    &upper,
+                    &mut states,
+                    &settings,
+                    &mut next,
+                )
+                .unwrap();
             assert!(report.status.is_solved(), "{report:?}");
-            next.copy_from_slice(qp.x());
         }
         std::mem::swap(&mut previous, &mut current);
         std::mem::swap(&mut current, &mut next);
@@ -495,16 +496,21 @@ fn run_prototype(case: &Case, method: &str) {
     }
     let per_step = t.elapsed().as_secs_f64() / steps as f64;
     let memory = peak_memory_mib();
-    let work = if method == "delassus" {
-        let f = solver.factor().stats();
-        let c = cache.stats();
-        format!(
-            "{} columns in {} solves, {} full factorisations, {} appended, {} deleted, {} reused",
-            c.computed, c.blocks, f.full, f.appended, f.deleted, f.reused
-        )
-    } else {
-        format!("{} sparse factorisations", qp.stats().factorizations)
-    };
+    let (c, f) = (
+        contact.delassus().stats(),
+        contact.active_set().factor().stats(),
+    );
+    let work = format!(
+        "{} columns in {} solves, {} full factorisations, {} appended, {} deleted, {} reused; \
+         {} sparse factorisations",
+        c.computed,
+        c.blocks,
+        f.full,
+        f.appended,
+        f.deleted,
+        f.reused,
+        contact.eliminated().stats().factorizations - 1
+    );
     // The library's stepper on the same scene, for the trajectory check.
     let mut reference = Stepper::from_system(s, &plate, 0.0).unwrap();
     let mut worst = 0.0_f64;
@@ -596,7 +602,7 @@ fn solve_anatomy() {
         let mut y = vec![0.0; n];
         let product = time_median(21, || add_product(&a, &x, 1.0, &mut y));
         // What a step pays: the solve with one step of iterative refinement, clamp eliminated.
-        let mut system = EliminatedSystem::new(&a, &plate.clamp, &[]).unwrap();
+        let mut system = EliminatedSystem::new(Arc::new(a.clone()), &plate.clamp, &[]).unwrap();
         let refined = time_median(21, || system.solve_unconstrained(&y, &mut x).unwrap());
         println!(
             "| {element:?} {nx}×{ny} | {n} | {} | {entries} | {:.1} | {:.1} | {:.2} | {:.2} | {:.3} | {:.2} |",

@@ -25,17 +25,17 @@
 //!   n (exponent 1.19–1.23 between 60 × 30 and 100 × 50), and 1.25 errs on the large side above
 //!   the anchor;
 //! * contact, at worst: on the modal path the factor of an active block of all m vertices (m²
-//!   values); on the sparse path the Delassus columns within [`DEFAULT_DELASSUS_BUDGET`], the
-//!   factor of an active block of up to min([`ELIMINATION_SHARE`]·m, [`MAX_DELASSUS_BLOCK`])
-//!   vertices, and beyond that the primal elimination ([`crate::contact::eliminated`]: a second numeric factor and two copies of
-//!   A_ff). This is the contact path as the sparse backend is to use it (the block factor for few
-//!   contacts, the elimination for many); the bench measures both.
+//!   values); on the sparse path ([`crate::contact::sparse_contact`]) the Delassus columns within
+//!   [`DEFAULT_DELASSUS_BUDGET`], the factor of an active block of up to
+//!   [`delassus_limit`] indices, and for larger sets the primal elimination (a second numeric
+//!   factor and a copy of A_ff).
 //!
 //! The estimate is the larger of the assembly peak and what the set-up holds afterwards, plus the
 //! contact part. It is checked against the measured peak resident memory (`examples/bench.rs
 //! -- --scale`) for both elements from 10 × 7 to 100 × 50 in the tests.
 
 use crate::contact::delassus::DEFAULT_DELASSUS_BUDGET;
+use crate::contact::sparse_contact::delassus_limit;
 use crate::element::ElementKind;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Scene};
@@ -46,15 +46,6 @@ use crate::scheme::MODAL_AUTO_LIMIT;
 /// workspace, the mode shapes): the peak resident memory measured 8.1 n² values at n = 1 951
 /// (Argyris 20 × 10), the rest of the process included.
 pub const MODAL_DENSE_COPIES: f64 = 8.0;
-
-/// Share of the constrained vertices above which the sparse path is to solve the contact problem
-/// by primal elimination rather than on the Delassus operator (see [`MemoryEstimate`]).
-pub const ELIMINATION_SHARE: f64 = 0.25;
-
-/// Largest active block the sparse path is to factor densely: beyond it, primal elimination.
-/// Measured on the FVS 60 × 30 plate, with 1 798 contacts the elimination is 5× faster than the
-/// Delassus path, with up to 60 the Delassus path is faster.
-pub const MAX_DELASSUS_BLOCK: f64 = 1000.0;
 
 /// Memory budget a set-up may need before it is refused: 4 GiB, a sixth of this 24 GiB machine.
 pub const DEFAULT_MEMORY_BUDGET: usize = 4 << 30;
@@ -142,8 +133,8 @@ impl MemoryEstimate {
             _ => {
                 let factor = l0 * (n / n0).powf(1.25) * 8.0;
                 let columns = (8.0 * m * m).min(DEFAULT_DELASSUS_BUDGET as f64);
-                let block = 8.0 * (ELIMINATION_SHARE * m).min(MAX_DELASSUS_BLOCK).powi(2);
-                let eliminated = factor + 2.0 * nnz_free * 16.0;
+                let block = 8.0 * (delassus_limit(size.constrained) as f64).powi(2);
+                let eliminated = factor + nnz_free * 16.0;
                 (factor, columns + block + eliminated)
             }
         };

@@ -15,12 +15,14 @@ use plate_impact::contact::clarabel::{
     polish, reference_settings, solve_box_qp, solve_box_qp_with,
 };
 use plate_impact::contact::eliminated::EliminatedSystem;
+use plate_impact::contact::sparse_contact::{SparseContact, Subproblem};
 use plate_impact::contact::{
     solve_box_lcp, ActiveSetSolver, BoundState, BoxQp, DelassusCache, DenseDelassus, PdasSettings,
     PdasStatus, WorkingSetSolver,
 };
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
+use std::sync::Arc;
 
 /// Gap scale of the random problems (m).
 const GAP: f64 = 0.01;
@@ -795,7 +797,7 @@ fn eliminated_primal_matches_delassus_and_clarabel() {
         let m = rng.random_range(10..=40);
         let mut p = Problem::random(&mut rng, n, m);
         let mut dw = DenseDelassus::new(m, p.w.clone());
-        let mut system = EliminatedSystem::new(&p.a, &[], &p.c).unwrap();
+        let mut system = EliminatedSystem::new(Arc::new(p.a.clone()), &[], &p.c).unwrap();
         let (mut delassus, mut primal) = (ActiveSetSolver::new(), ActiveSetSolver::new());
         let mut states = vec![BoundState::Free; m];
         let mut primal_states = states.clone();
@@ -882,4 +884,51 @@ fn clarabel_reports_whether_its_answer_is_polished() {
     let from_nothing = polish(&p.qp(), &vec![BoundState::Free; p.m()]).unwrap();
     assert!(from_nothing.polished);
     assert_eq!(from_nothing.states, polished.states);
+}
+
+/// The sparse backend's contact object: its unconstrained solve is x* to round-off, and each of
+/// its subproblems (Delassus with cached columns, elimination, and the rule between them) returns
+/// clarabel's active set and minimiser, also when a tiny column budget forces evictions.
+#[test]
+fn sparse_contact_solves_with_either_subproblem() {
+    let mut rng = StdRng::seed_from_u64(31);
+    let settings = PdasSettings::default();
+    let mut used = [0usize; 2];
+    for trial in 0..8 {
+        let n = rng.random_range(60..=150);
+        let m = rng.random_range(12..=40);
+        let p = Problem::random(&mut rng, n, m);
+        let reference = solve_box_qp(&p.qp()).unwrap();
+        assert!(reference.polished);
+        let a = Arc::new(p.a.clone());
+        for (choice, budget) in [
+            (None, usize::MAX),
+            (Some(Subproblem::Delassus), usize::MAX),
+            (Some(Subproblem::Delassus), 8 * m * 3),
+            (Some(Subproblem::Eliminated), usize::MAX),
+        ] {
+            let mut contact = SparseContact::new(a.clone(), &[], &p.c, budget).unwrap();
+            if let Some(choice) = choice {
+                contact.force(choice);
+            }
+            let mut x_star = vec![0.0; n];
+            contact.solve_unconstrained(&p.b, &mut x_star).unwrap();
+            // Against the dense solve of the test problem: both round-off of condition ≲ 1e3.
+            assert!(max_diff(&x_star, &p.x_star) <= 1e-14, "trial {trial}");
+            let mut states = vec![BoundState::Free; m];
+            let mut x = vec![0.0; n];
+            let report = contact
+                .solve(&p.b, &x_star, &p.lo, &p.hi, &mut states, &settings, &mut x)
+                .unwrap();
+            assert!(report.status.is_solved(), "trial {trial} {choice:?}");
+            assert_eq!(states, reference.states, "trial {trial} {choice:?}");
+            let d = max_diff(&x, &reference.x);
+            assert!(d <= AGREE, "trial {trial} {choice:?}: {d:e}");
+            used[usize::from(contact.last_subproblem() == Subproblem::Eliminated)] += 1;
+            if budget < usize::MAX {
+                assert!(contact.delassus().stats().evicted > 0, "trial {trial}");
+            }
+        }
+    }
+    assert!(used[0] > 0 && used[1] > 0);
 }

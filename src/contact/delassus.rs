@@ -93,6 +93,20 @@ impl Delassus for DenseDelassus {
     }
 }
 
+/// Computes columns of W for a [`DelassusCache`]: `columns(js, out)` writes W e_j for each j of
+/// `js` into `out` (m × js.len(), column-major), always the same values for the same j. Closures
+/// `FnMut(&[usize], &mut [f64])` are column sources.
+pub trait ColumnSource {
+    /// Writes the columns `js` of W into `out`.
+    fn columns(&mut self, js: &[usize], out: &mut [f64]);
+}
+
+impl<F: FnMut(&[usize], &mut [f64])> ColumnSource for F {
+    fn columns(&mut self, js: &[usize], out: &mut [f64]) {
+        self(js, out)
+    }
+}
+
 /// Default memory budget of a [`DelassusCache`]: 256 MiB, all of W up to m ≈ 5 800 constrained
 /// vertices (a 100 × 57 mesh).
 pub const DEFAULT_DELASSUS_BUDGET: usize = 256 << 20;
@@ -117,12 +131,10 @@ pub struct CacheStats {
     pub held: usize,
 }
 
-/// W computed column by column on first use and kept within a memory budget:
-/// `compute(js, out)` must write the columns W e_j = B A⁻¹ Bᵀ e_j for j in `js` into `out`
-/// (m × js.len(), column-major), and must always write the same values for the same j (W is the
-/// operator of one A for the cache's whole life; make a new cache when A or the constrained dofs
-/// change). [`Delassus::prefetch`] computes the missing columns in blocks of [`PREFETCH_BLOCK`]
-/// per call of `compute`.
+/// W computed column by column on first use and kept within a memory budget: the
+/// [`ColumnSource`] computes the columns W e_j = B A⁻¹ Bᵀ e_j (W is the operator of one A for the
+/// cache's whole life; make a new cache when A or the constrained dofs change).
+/// [`Delassus::prefetch`] computes the missing columns in blocks of [`PREFETCH_BLOCK`] per call.
 ///
 /// At most ⌊budget / (8 m)⌋ columns (at least one) are held; past that the least recently used
 /// column is dropped. An active set larger than that still solves, at the price of recomputing
@@ -147,7 +159,12 @@ pub struct DelassusCache<F> {
     missing: Vec<usize>,
 }
 
-impl<F: FnMut(&[usize], &mut [f64])> DelassusCache<F> {
+impl<F: ColumnSource> DelassusCache<F> {
+    /// The column source (to solve with the same factor of A, for instance).
+    pub fn source_mut(&mut self) -> &mut F {
+        &mut self.compute
+    }
+
     /// An empty cache for an m × m operator that may hold `budget_bytes` of columns.
     pub fn new(dim: usize, budget_bytes: usize, compute: F) -> Self {
         let column_bytes = 8 * dim.max(1);
@@ -204,7 +221,7 @@ impl<F: FnMut(&[usize], &mut [f64])> DelassusCache<F> {
     }
 }
 
-impl<F: FnMut(&[usize], &mut [f64])> Delassus for DelassusCache<F> {
+impl<F: ColumnSource> Delassus for DelassusCache<F> {
     fn dim(&self) -> usize {
         self.dim
     }
@@ -215,7 +232,8 @@ impl<F: FnMut(&[usize], &mut [f64])> Delassus for DelassusCache<F> {
         let mut slot = self.slot_of[j];
         if slot == usize::MAX {
             slot = self.claim_slot(j);
-            (self.compute)(&[j], &mut self.store[slot * m..(slot + 1) * m]);
+            self.compute
+                .columns(&[j], &mut self.store[slot * m..(slot + 1) * m]);
             self.stats.computed += 1;
             self.stats.blocks += 1;
         }
@@ -248,7 +266,7 @@ impl<F: FnMut(&[usize], &mut [f64])> Delassus for DelassusCache<F> {
             }
             let r = block.len();
             self.batch.resize(m * r, 0.0);
-            (self.compute)(block, &mut self.batch);
+            self.compute.columns(block, &mut self.batch);
             self.stats.computed += r;
             self.stats.blocks += 1;
             for (q, &j) in block.iter().enumerate() {

@@ -27,6 +27,7 @@ use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::SparseColMat;
 use faer::{Accum, ColMut, Mat, MatMut, Par, Side};
+use std::sync::Arc;
 
 /// What an [`EliminatedSystem`] did so far.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -40,12 +41,15 @@ pub struct EliminatedStats {
 /// A sparse SPD A with some dofs always fixed at zero and constrained dofs that a working set
 /// fixes at their bounds (module docs).
 pub struct EliminatedSystem {
-    a: SparseColMat<usize, f64>,
+    a: Arc<SparseColMat<usize, f64>>,
     /// The constrained dofs c_i.
     constrained: Vec<usize>,
     symbolic: SymbolicLlt<usize>,
-    /// A with the rows and columns of the fixed dofs replaced by diag(A_jj).
-    reduced: SparseColMat<usize, f64>,
+    /// A with the rows and columns of the fixed dofs replaced by diag(A_jj); allocated on the
+    /// first factorisation that eliminates anything (until then the factor is A's own).
+    reduced: Option<SparseColMat<usize, f64>>,
+    /// Whether `factor` is the factor of `reduced` (else of A).
+    uses_reduced: bool,
     factor: Option<Llt<usize, f64>>,
     /// The working set (increasing constrained indices) that `factor` eliminates.
     factored: Vec<usize>,
@@ -62,9 +66,10 @@ pub struct EliminatedSystem {
 
 impl EliminatedSystem {
     /// The system of `a` (n × n, SPD, both triangles stored) with the dofs `fixed` held at zero and
-    /// the constrained dofs `constrained` (distinct, not fixed). Runs the symbolic analysis.
+    /// the constrained dofs `constrained` (distinct, not fixed). Runs the symbolic analysis and
+    /// factors A with nothing but the fixed dofs eliminated.
     pub fn new(
-        a: &SparseColMat<usize, f64>,
+        a: Arc<SparseColMat<usize, f64>>,
         fixed: &[usize],
         constrained: &[usize],
     ) -> Result<EliminatedSystem, Error> {
@@ -88,10 +93,11 @@ impl EliminatedSystem {
             )));
         }
         let mut system = EliminatedSystem {
-            a: a.clone(),
+            a,
             constrained: constrained.to_vec(),
             symbolic,
-            reduced: a.clone(),
+            reduced: None,
+            uses_reduced: false,
             factor: None,
             factored: Vec::new(),
             eliminated: vec![false; n],
@@ -105,6 +111,37 @@ impl EliminatedSystem {
         };
         system.refactor(&[]).map_err(|_| not_positive_definite())?;
         Ok(system)
+    }
+
+    /// A second system on the same A, fixed and constrained dofs, sharing A and its symbolic
+    /// analysis, with a numeric factor of its own: one can keep A's factor for unconstrained
+    /// solves while the other factors working sets.
+    pub fn share(&self) -> Result<EliminatedSystem, Error> {
+        let n = self.a.nrows();
+        let mut system = EliminatedSystem {
+            a: Arc::clone(&self.a),
+            constrained: self.constrained.clone(),
+            symbolic: self.symbolic.clone(),
+            reduced: None,
+            uses_reduced: false,
+            factor: None,
+            factored: Vec::new(),
+            eliminated: vec![false; n],
+            always_fixed: self.always_fixed.clone(),
+            diagonal: self.diagonal.clone(),
+            b: vec![0.0; n],
+            x_star: vec![0.0; n],
+            x: vec![0.0; n],
+            residual: Mat::zeros(n, 1),
+            stats: EliminatedStats::default(),
+        };
+        system.refactor(&[]).map_err(|_| not_positive_definite())?;
+        Ok(system)
+    }
+
+    /// The constrained dofs.
+    pub fn constrained(&self) -> &[usize] {
+        &self.constrained
     }
 
     /// Sets the QP of the step: its linear term `b` and its unconstrained minimiser `x_star`
@@ -156,32 +193,34 @@ impl EliminatedSystem {
         for &i in active {
             self.eliminated[self.constrained[i]] = true;
         }
-        // `reduced` is a copy of A: same pattern, same storage order of the values.
-        let (eliminated, diagonal) = (&self.eliminated, &self.diagonal);
-        let source = self.a.as_ref();
-        let target = self.reduced.val_mut();
-        for j in 0..source.ncols() {
-            let range = source.col_range(j);
-            let rows = &source.row_idx()[range.clone()];
-            for ((&i, &v), t) in rows
-                .iter()
-                .zip(&source.val()[range.clone()])
-                .zip(&mut target[range])
-            {
-                *t = if !(eliminated[i] || eliminated[j]) {
-                    v
-                } else if i == j {
-                    diagonal[j]
-                } else {
-                    0.0
-                };
-            }
-        }
         self.factor = None;
         self.factored.clear();
-        let factor =
-            Llt::try_new_with_symbolic(self.symbolic.clone(), self.reduced.as_ref(), Side::Lower)
-                .map_err(|_| NotPositiveDefinite)?;
+        self.uses_reduced = !(self.always_fixed.is_empty() && active.is_empty());
+        let factor = if !self.uses_reduced {
+            Llt::try_new_with_symbolic(self.symbolic.clone(), self.a.as_ref().as_ref(), Side::Lower)
+        } else {
+            // `reduced` is a copy of A: same pattern, same storage order of the values.
+            let reduced = self.reduced.get_or_insert_with(|| (*self.a).clone());
+            let (eliminated, diagonal) = (&self.eliminated, &self.diagonal);
+            let source = self.a.as_ref().as_ref();
+            let target = reduced.val_mut();
+            for j in 0..source.ncols() {
+                let range = source.col_range(j);
+                let rows = &source.row_idx()[range.clone()];
+                let values = &source.val()[range.clone()];
+                for ((&i, &v), t) in rows.iter().zip(values).zip(&mut target[range]) {
+                    *t = if !(eliminated[i] || eliminated[j]) {
+                        v
+                    } else if i == j {
+                        diagonal[j]
+                    } else {
+                        0.0
+                    };
+                }
+            }
+            Llt::try_new_with_symbolic(self.symbolic.clone(), reduced.as_ref(), Side::Lower)
+        }
+        .map_err(|_| NotPositiveDefinite)?;
         self.factor = Some(factor);
         self.factored.extend_from_slice(active);
         self.stats.factorizations += 1;
@@ -195,10 +234,14 @@ impl EliminatedSystem {
         self.residual.resize_with(x.nrows(), x.ncols(), |_, _| 0.0);
         self.residual.copy_from(x.as_ref());
         factor.solve_in_place(x.as_mut());
+        let matrix = match &self.reduced {
+            Some(reduced) if self.uses_reduced => reduced.as_ref(),
+            _ => self.a.as_ref().as_ref(),
+        };
         sparse_dense_matmul(
             self.residual.as_mut(),
             Accum::Add,
-            self.reduced.as_ref(),
+            matrix,
             x.as_ref(),
             -1.0,
             Par::Seq,

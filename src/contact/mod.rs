@@ -18,7 +18,9 @@
 //!   ([`delassus`]: columns of W, precomputed or cached within a memory budget, and the factor of
 //!   the active block updated as indices enter and leave, [`block_factor`]; the caller then sets
 //!   x = x* + A⁻¹ Bᵀ λ) or in the primal variables with the active dofs eliminated from a sparse A
-//!   ([`eliminated`], which returns x itself).
+//!   ([`eliminated`], which returns x itself). [`sparse_contact`] puts the factor of A, the cached
+//!   columns, the elimination and the rule that chooses between them in one object for a sparse
+//!   backend.
 //! * [`clarabel`]: the reference, the full primal QP handed to the Clarabel interior-point solver with
 //!   tightened tolerances ([`clarabel::reference_settings`]), then polished on its active set with a
 //!   KKT certificate ([`clarabel::polish`]).
@@ -28,6 +30,7 @@ pub mod block_factor;
 pub mod clarabel;
 pub mod delassus;
 pub mod eliminated;
+pub mod sparse_contact;
 
 pub use active_set::{
     solve_box_lcp, ActiveSetSolver, DelassusWorkingSet, LcpSolution, PdasReport, PdasSettings,
