@@ -12,8 +12,8 @@
 //! [`ActiveSetSolver`] solves it by the primal–dual active-set method, which is a semismooth Newton
 //! method on the complementarity function λ − max(0, λ + c (lo − y)) − min(0, λ + c (hi − y))
 //! (Hintermüller, Ito, Kunisch, *The primal–dual active set strategy as a semismooth Newton method*,
-//! SIAM J. Optim. 13(3), 2003): on a working set 𝒜 it solves W_𝒜𝒜 λ_𝒜 = bound_𝒜 − y*_𝒜 by a dense
-//! Cholesky factorisation, sets λ = 0 off 𝒜, and moves to 𝒜 the indices whose y violates a bound and
+//! SIAM J. Optim. 13(3), 2003): on a working set 𝒜 it solves W_𝒜𝒜 λ_𝒜 = bound_𝒜 − y*_𝒜 (a
+//! [`WorkingSetSolver`]), sets λ = 0 off 𝒜, and moves to 𝒜 the indices whose y violates a bound and
 //! out of 𝒜 those whose λ has the wrong sign. When the set repeats, the KKT conditions hold and the
 //! answer is the exact solution of a linear system: a finite identification, then a direct solve.
 //!
@@ -219,7 +219,7 @@ impl PdasStatus {
 pub struct PdasReport {
     /// The outcome.
     pub status: PdasStatus,
-    /// PDAS iterations (one Cholesky solve each).
+    /// PDAS iterations (one working-set solve each).
     pub iterations: usize,
     /// Safeguard iterations (0 when it did not run).
     pub safeguard_iterations: usize,

@@ -43,7 +43,8 @@ pub struct FactorStats {
     pub appended: usize,
     /// Indices deleted by a downdate.
     pub deleted: usize,
-    /// Solves that reused the factor unchanged from the previous solve.
+    /// Synchronisations that found the factor already up to date (within a solve, or from the
+    /// previous solve of the same operator).
     pub reused: usize,
 }
 
@@ -60,8 +61,6 @@ pub struct ActiveBlockFactor {
     owner: Option<u64>,
     /// Updates since the last full factorisation.
     updates: usize,
-    /// Whether the last synchronisation changed nothing.
-    unchanged: bool,
     stats: FactorStats,
     /// Workspaces.
     column: Vec<f64>,
@@ -78,7 +77,6 @@ impl Default for ActiveBlockFactor {
             ld: Mat::zeros(0, 0),
             owner: None,
             updates: 0,
-            unchanged: false,
             stats: FactorStats::default(),
             column: Vec::new(),
             marked: Vec::new(),
@@ -154,7 +152,6 @@ impl ActiveBlockFactor {
         added: &[usize],
     ) -> Result<(), NotPositiveDefinite> {
         let changes = removed.len() + added.len();
-        self.unchanged = changes == 0;
         if changes == 0 {
             self.stats.reused += 1;
             return Ok(());
@@ -172,11 +169,6 @@ impl ActiveBlockFactor {
         }
         self.updates += changes;
         Ok(())
-    }
-
-    /// Whether the last [`Self::sync`] found the factor already up to date.
-    pub fn was_unchanged(&self) -> bool {
-        self.unchanged
     }
 
     /// The indices of the factor, in its order.

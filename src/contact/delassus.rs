@@ -212,6 +212,11 @@ impl<F: ColumnSource> DelassusCache<F> {
         self.capacity
     }
 
+    /// Whether column j is held.
+    pub fn holds(&self, j: usize) -> bool {
+        self.slot_of[j] < PENDING
+    }
+
     /// Counts of computed, evicted and held columns.
     pub fn stats(&self) -> CacheStats {
         CacheStats {

@@ -7,7 +7,9 @@
 //! W e_j = B A⁻¹ Bᵀ e_j (in blocks, cached by a [`DelassusCache`]) and the final correction
 //! x = A⁻¹(b + Bᵀλ); the second factors working sets for the primal elimination. A step whose
 //! warm start has at most [`SparseContact::delassus_limit`] active indices (min(m/4, 1 000)) is
-//! solved on W, a larger one by elimination (see docs/contact.md for the measurements behind
+//! solved on W, a larger one by elimination; so is a cold start (no warm start) whose
+//! unconstrained step leaves the box at more vertices whose columns are not cached yet than that
+//! limit (see docs/contact.md for the measurements behind
 //! the rule). Either way the answer is the QP's exact minimiser.
 
 use super::delassus::{ColumnSource, DelassusCache};
@@ -114,7 +116,8 @@ impl SparseContact {
         self.forced = Some(choice);
     }
 
-    /// The largest warm-start set solved on the Delassus operator ([`delassus_limit`]).
+    /// The largest warm start, or number of uncached columns a cold start would need, solved on the
+    /// Delassus operator ([`delassus_limit`]).
     pub fn delassus_limit(&self) -> usize {
         self.limit
     }
@@ -144,8 +147,18 @@ impl SparseContact {
         for (y, &c) in self.y_star.iter_mut().zip(constrained) {
             *y = x_star[c];
         }
+        // Elimination when the warm start is large, or on a cold start when the columns that the
+        // values outside the box would need are mostly not cached yet.
         let warm = states.iter().filter(|s| s.is_active()).count();
-        self.last = self.forced.unwrap_or(if warm <= self.limit {
+        let missing = if warm == 0 {
+            (0..self.y_star.len())
+                .filter(|&i| self.y_star[i] < lower[i] || self.y_star[i] > upper[i])
+                .filter(|&i| !self.delassus.holds(i))
+                .count()
+        } else {
+            0
+        };
+        self.last = self.forced.unwrap_or(if warm.max(missing) <= self.limit {
             Subproblem::Delassus
         } else {
             Subproblem::Eliminated
