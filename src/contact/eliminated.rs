@@ -92,6 +92,32 @@ impl EliminatedSystem {
                 diagonal[j]
             )));
         }
+        EliminatedSystem::with_analysis(a, symbolic, diagonal, fixed, constrained)
+    }
+
+    /// A second system on the same A, fixed and constrained dofs, sharing A and its symbolic
+    /// analysis, with a numeric factor of its own: one can keep A's factor for unconstrained
+    /// solves while the other factors working sets.
+    pub fn share(&self) -> Result<EliminatedSystem, Error> {
+        EliminatedSystem::with_analysis(
+            Arc::clone(&self.a),
+            self.symbolic.clone(),
+            self.diagonal.clone(),
+            &self.always_fixed,
+            &self.constrained,
+        )
+    }
+
+    /// The system from A, its symbolic analysis and its diagonal, factored with nothing but the
+    /// fixed dofs eliminated.
+    fn with_analysis(
+        a: Arc<SparseColMat<usize, f64>>,
+        symbolic: SymbolicLlt<usize>,
+        diagonal: Vec<f64>,
+        fixed: &[usize],
+        constrained: &[usize],
+    ) -> Result<EliminatedSystem, Error> {
+        let n = a.nrows();
         let mut system = EliminatedSystem {
             a,
             constrained: constrained.to_vec(),
@@ -103,32 +129,6 @@ impl EliminatedSystem {
             eliminated: vec![false; n],
             always_fixed: fixed.to_vec(),
             diagonal,
-            b: vec![0.0; n],
-            x_star: vec![0.0; n],
-            x: vec![0.0; n],
-            residual: Mat::zeros(n, 1),
-            stats: EliminatedStats::default(),
-        };
-        system.refactor(&[]).map_err(|_| not_positive_definite())?;
-        Ok(system)
-    }
-
-    /// A second system on the same A, fixed and constrained dofs, sharing A and its symbolic
-    /// analysis, with a numeric factor of its own: one can keep A's factor for unconstrained
-    /// solves while the other factors working sets.
-    pub fn share(&self) -> Result<EliminatedSystem, Error> {
-        let n = self.a.nrows();
-        let mut system = EliminatedSystem {
-            a: Arc::clone(&self.a),
-            constrained: self.constrained.clone(),
-            symbolic: self.symbolic.clone(),
-            reduced: None,
-            uses_reduced: false,
-            factor: None,
-            factored: Vec::new(),
-            eliminated: vec![false; n],
-            always_fixed: self.always_fixed.clone(),
-            diagonal: self.diagonal.clone(),
             b: vec![0.0; n],
             x_star: vec![0.0; n],
             x: vec![0.0; n],
