@@ -19,6 +19,7 @@
 //! * [`fmi`]: the FMI 2.0 Co-Simulation interface, the crate's only unsafe code.
 
 pub mod assembly;
+pub mod budget;
 pub mod contact;
 pub mod element;
 pub mod error;

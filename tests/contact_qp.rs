@@ -10,13 +10,19 @@
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
-use plate_impact::contact::clarabel::{reference_settings, solve_box_qp, solve_box_qp_with};
+use plate_impact::contact::block_factor::NotPositiveDefinite;
+use plate_impact::contact::clarabel::{
+    polish, reference_settings, solve_box_qp, solve_box_qp_with,
+};
+use plate_impact::contact::eliminated::EliminatedSystem;
+use plate_impact::contact::sparse_contact::{SparseContact, Subproblem};
 use plate_impact::contact::{
-    solve_box_lcp, ActiveSetSolver, BoundState, BoxQp, DenseDelassus, LazyDelassus, PdasSettings,
-    PdasStatus,
+    solve_box_lcp, ActiveSetSolver, BoundState, BoxQp, DelassusCache, DenseDelassus, PdasSettings,
+    PdasStatus, WorkingSetSolver,
 };
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
+use std::sync::Arc;
 
 /// Gap scale of the random problems (m).
 const GAP: f64 = 0.01;
@@ -287,10 +293,12 @@ fn pdas_matches_clarabel_on_random_problems() {
                 BoundState::Free => assert_eq!(solver.lambda()[i], 0.0),
             }
         }
-        // Lazy columns: same answer, and only the columns of indices that were ever active.
+        // Cached columns: same answer, and only the columns of indices that were ever active.
         let wd = p.w.clone();
-        let mut lazy = LazyDelassus::new(m, |j, out: &mut [f64]| {
-            out.copy_from_slice(&wd[j * m..(j + 1) * m]);
+        let mut lazy = DelassusCache::new(m, usize::MAX, |js: &[usize], out: &mut [f64]| {
+            for (q, &j) in js.iter().enumerate() {
+                out[q * m..(q + 1) * m].copy_from_slice(&wd[j * m..(j + 1) * m]);
+            }
         });
         let lazy_sol = solve_box_lcp(
             &mut lazy,
@@ -301,7 +309,7 @@ fn pdas_matches_clarabel_on_random_problems() {
             &PdasSettings::default(),
         );
         assert_eq!(lazy_sol.lambda, solver.lambda());
-        assert!(lazy.columns_computed() >= active);
+        assert!(lazy.stats().computed >= active && lazy.stats().evicted == 0);
     }
     eprintln!(
         "random QPs: max |x_pdas − x_clarabel| = {worst_agree:.2e} m; \
@@ -650,4 +658,277 @@ fn clarabel_errors_name_the_status() {
     settings.max_iter = 2;
     let err = solve_box_qp_with(&p.qp(), settings).unwrap_err();
     assert!(err.to_string().contains("MaxIterations"), "{err}");
+}
+
+/// The method before the block factor, as an oracle: every working set's W_𝒜𝒜 formed and solved
+/// from scratch (Gaussian elimination), y = y* + W λ; refinement solves again from scratch.
+struct FromScratch<'a> {
+    w: &'a [f64],
+    y_star: &'a [f64],
+}
+
+impl FromScratch<'_> {
+    fn lambda_and_y(&self, active: &[usize], rhs: Vec<f64>, lambda: &mut [f64], y: &mut [f64]) {
+        let m = self.y_star.len();
+        let k = active.len();
+        let sub: Vec<f64> = (0..k * k)
+            .map(|t| self.w[active[t % k] + active[t / k] * m])
+            .collect();
+        let delta = dense_solve(sub, k, rhs);
+        for (q, &i) in active.iter().enumerate() {
+            lambda[i] += delta[q];
+        }
+        for i in 0..m {
+            y[i] = self.y_star[i] + (0..m).map(|j| self.w[i + j * m] * lambda[j]).sum::<f64>();
+        }
+    }
+}
+
+impl WorkingSetSolver for FromScratch<'_> {
+    fn dim(&self) -> usize {
+        self.y_star.len()
+    }
+
+    fn solve(
+        &mut self,
+        active: &[usize],
+        bound: &[f64],
+        lambda: &mut [f64],
+        y: &mut [f64],
+        scale: &mut [f64],
+    ) -> Result<(), NotPositiveDefinite> {
+        let m = self.y_star.len();
+        lambda.fill(0.0);
+        let rhs = active
+            .iter()
+            .zip(bound)
+            .map(|(&i, &b)| b - self.y_star[i])
+            .collect();
+        for &i in active {
+            scale[i] = self.w[i + i * m];
+        }
+        self.lambda_and_y(active, rhs, lambda, y);
+        Ok(())
+    }
+
+    fn refine(&mut self, active: &[usize], bound: &[f64], lambda: &mut [f64], y: &mut [f64]) {
+        let rhs = active.iter().zip(bound).map(|(&i, &b)| b - y[i]).collect();
+        self.lambda_and_y(active, rhs, lambda, y);
+    }
+}
+
+/// Property: on random SPD W and random boxes, over sequences of related solves (y* drifting as in
+/// successive time steps, so that working sets repeat or change by a few indices), the solver
+/// that updates and reuses the factor of the active block returns the same active set as PDAS
+/// with every block solved from scratch, and the same λ and y to round-off.
+#[test]
+fn factor_updates_and_reuse_match_solving_from_scratch() {
+    let mut rng = StdRng::seed_from_u64(2027);
+    let settings = PdasSettings::default();
+    let (mut updated, mut reused, mut full) = (0, 0, 0);
+    let mut worst: f64 = 0.0;
+    for trial in 0..40 {
+        let m = rng.random_range(5..=80);
+        let coupling = rng.random_range(0.0..0.6);
+        let w = random_w(&mut rng, m, coupling);
+        let (mut y_star, lo, hi) = random_data(&mut rng, m);
+        let mut dw = DenseDelassus::new(m, w.clone());
+        let mut solver = ActiveSetSolver::new();
+        let mut oracle = ActiveSetSolver::new();
+        let mut states = vec![BoundState::Free; m];
+        let mut oracle_states = states.clone();
+        for step in 0..12 {
+            // A few values move by up to 30 % of the gap, the others stay: nearby sets.
+            for _ in 0..3 {
+                let i = rng.random_range(0..m);
+                y_star[i] += rng.random_range(-0.3..0.3) * GAP;
+            }
+            let report = solver.solve(&mut dw, &y_star, &lo, &hi, &mut states, &settings);
+            let mut scratch = FromScratch {
+                w: &w,
+                y_star: &y_star,
+            };
+            let expected = oracle.solve_with(
+                &mut scratch,
+                &y_star,
+                &lo,
+                &hi,
+                &mut oracle_states,
+                &settings,
+            );
+            assert!(
+                report.status.is_solved(),
+                "trial {trial} step {step}: {report:?}"
+            );
+            assert_eq!(report.status, expected.status, "trial {trial} step {step}");
+            assert_eq!(states, oracle_states, "trial {trial} step {step}");
+            // W has condition up to ~1e3 here: λ and y agree to 1e3·ε of the gap scale.
+            let d = max_diff(solver.y(), oracle.y()).max((0..m).fold(0.0_f64, |s, i| {
+                s.max((solver.lambda()[i] - oracle.lambda()[i]).abs() * w[i + i * m])
+            }));
+            worst = worst.max(d);
+            assert!(d <= 1e-13, "trial {trial} step {step}: differs by {d:e} m");
+        }
+        let stats = solver.factor().stats();
+        updated += stats.appended + stats.deleted;
+        reused += stats.reused;
+        full += stats.full;
+    }
+    eprintln!(
+        "factor updates: {updated} indices appended or deleted, {reused} solves reused the factor, \
+         {full} full factorisations; worst difference from scratch {worst:.1e} m"
+    );
+    // The sequences must exercise every path of the factor.
+    assert!(updated > 0 && reused > 0 && full > 0);
+}
+
+/// Property: on random sparse box QPs over sequences of right-hand sides, the active-set method
+/// with the active dofs eliminated from A (primal) returns the active set and minimiser of the
+/// Delassus-space method and of clarabel.
+#[test]
+fn eliminated_primal_matches_delassus_and_clarabel() {
+    let mut rng = StdRng::seed_from_u64(99);
+    let settings = PdasSettings::default();
+    let mut worst_delassus: f64 = 0.0;
+    let mut worst_clarabel: f64 = 0.0;
+    let mut factorizations = 0;
+    for trial in 0..15 {
+        let n = rng.random_range(50..=200);
+        let m = rng.random_range(10..=40);
+        let mut p = Problem::random(&mut rng, n, m);
+        let mut dw = DenseDelassus::new(m, p.w.clone());
+        let mut system = EliminatedSystem::new(Arc::new(p.a.clone()), &[], &p.c).unwrap();
+        let (mut delassus, mut primal) = (ActiveSetSolver::new(), ActiveSetSolver::new());
+        let mut states = vec![BoundState::Free; m];
+        let mut primal_states = states.clone();
+        for step in 0..5 {
+            if step > 0 {
+                // The next "time step": b moves a little, x* with it.
+                let a = p.a.as_ref();
+                let dx: Vec<f64> = (0..n).map(|_| rng.random_range(-0.2..0.2) * GAP).collect();
+                for j in 0..n {
+                    for (i, &v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+                        p.b[i] += v * dx[j];
+                    }
+                }
+                for i in 0..n {
+                    p.x_star[i] += dx[i];
+                }
+            }
+            let y_star = p.y_star();
+            let report = delassus.solve(&mut dw, &y_star, &p.lo, &p.hi, &mut states, &settings);
+            assert!(report.status.is_solved(), "trial {trial} step {step}");
+            let x_delassus = p.x_from_lambda(delassus.lambda());
+            system.set_step(&p.b, &p.x_star);
+            let report = primal.solve_with(
+                &mut system,
+                &y_star,
+                &p.lo,
+                &p.hi,
+                &mut primal_states,
+                &settings,
+            );
+            assert!(report.status.is_solved(), "trial {trial} step {step}");
+            assert_eq!(states, primal_states, "trial {trial} step {step}");
+            let x_primal = if states.iter().any(|s| s.is_active()) {
+                system.x().to_vec()
+            } else {
+                p.x_star.clone()
+            };
+            let reference = solve_box_qp(&p.qp()).unwrap();
+            assert!(reference.polished, "trial {trial} step {step}");
+            assert_eq!(states, reference.states, "trial {trial} step {step}");
+            let (d, c) = (
+                max_diff(&x_primal, &x_delassus),
+                max_diff(&x_primal, &reference.x),
+            );
+            worst_delassus = worst_delassus.max(d);
+            worst_clarabel = worst_clarabel.max(c);
+            // Two exact methods on systems of condition ≲ 1e3: round-off of the 1 cm gap scale.
+            assert!(
+                d <= 1e-13,
+                "trial {trial} step {step}: |x_primal − x_delassus| = {d:e}"
+            );
+            assert!(
+                c <= AGREE,
+                "trial {trial} step {step}: |x_primal − x_clarabel| = {c:e}"
+            );
+            // On the bound exactly where active.
+            for (i, s) in states.iter().enumerate() {
+                match s {
+                    BoundState::AtLower => assert_eq!(x_primal[p.c[i]], p.lo[i]),
+                    BoundState::AtUpper => assert_eq!(x_primal[p.c[i]], p.hi[i]),
+                    BoundState::Free => {}
+                }
+            }
+        }
+        factorizations += system.stats().factorizations;
+    }
+    eprintln!(
+        "eliminated: max |x − x_delassus| = {worst_delassus:.1e} m, max |x − x_clarabel| = \
+         {worst_clarabel:.1e} m, {factorizations} sparse factorisations"
+    );
+}
+
+/// The polish outcome is visible: a clarabel answer stopped early is not certified, the polished
+/// one is.
+#[test]
+fn clarabel_reports_whether_its_answer_is_polished() {
+    let mut rng = StdRng::seed_from_u64(5);
+    let p = Problem::random(&mut rng, 80, 20);
+    let raw = solve_box_qp_with(&p.qp(), reference_settings()).unwrap();
+    assert!(!raw.polished);
+    let polished = solve_box_qp(&p.qp()).unwrap();
+    assert!(polished.polished);
+    // From the empty set, polish adds the violated bounds round by round and still certifies.
+    let from_nothing = polish(&p.qp(), &vec![BoundState::Free; p.m()]).unwrap();
+    assert!(from_nothing.polished);
+    assert_eq!(from_nothing.states, polished.states);
+}
+
+/// The sparse backend's contact object: its unconstrained solve is x* to round-off, and each of
+/// its subproblems (Delassus with cached columns, elimination, and the rule between them) returns
+/// clarabel's active set and minimiser, also when a tiny column budget forces evictions.
+#[test]
+fn sparse_contact_solves_with_either_subproblem() {
+    let mut rng = StdRng::seed_from_u64(31);
+    let settings = PdasSettings::default();
+    let mut used = [0usize; 2];
+    for trial in 0..8 {
+        let n = rng.random_range(60..=150);
+        let m = rng.random_range(12..=40);
+        let p = Problem::random(&mut rng, n, m);
+        let reference = solve_box_qp(&p.qp()).unwrap();
+        assert!(reference.polished);
+        let a = Arc::new(p.a.clone());
+        for (choice, budget) in [
+            (None, usize::MAX),
+            (Some(Subproblem::Delassus), usize::MAX),
+            (Some(Subproblem::Delassus), 8 * m * 3),
+            (Some(Subproblem::Eliminated), usize::MAX),
+        ] {
+            let mut contact = SparseContact::new(a.clone(), &[], &p.c, budget).unwrap();
+            if let Some(choice) = choice {
+                contact.force(choice);
+            }
+            let mut x_star = vec![0.0; n];
+            contact.solve_unconstrained(&p.b, &mut x_star).unwrap();
+            // Against the dense solve of the test problem: both round-off of condition ≲ 1e3.
+            assert!(max_diff(&x_star, &p.x_star) <= 1e-14, "trial {trial}");
+            let mut states = vec![BoundState::Free; m];
+            let mut x = vec![0.0; n];
+            let report = contact
+                .solve(&p.b, &x_star, &p.lo, &p.hi, &mut states, &settings, &mut x)
+                .unwrap();
+            assert!(report.status.is_solved(), "trial {trial} {choice:?}");
+            assert_eq!(states, reference.states, "trial {trial} {choice:?}");
+            let d = max_diff(&x, &reference.x);
+            assert!(d <= AGREE, "trial {trial} {choice:?}: {d:e}");
+            used[usize::from(contact.last_subproblem() == Subproblem::Eliminated)] += 1;
+            if budget < usize::MAX {
+                assert!(contact.delassus().stats().evicted > 0, "trial {trial}");
+            }
+        }
+    }
+    assert!(used[0] > 0 && used[1] > 0);
 }

@@ -237,8 +237,10 @@ fn energy_changes_by_the_work_of_the_contact_forces() {
 /// vanishes only once Δt resolves the dynamics, here the stiffest mode of the mesh.
 ///
 /// Measured (printed): on the shipped 10 × 7 mesh, ω_max Δt ≫ 1 at Δt = 1e-4 and 1e-5, and the
-/// energy *grows*, to about 3.5 E₀ over 1 s at Δt = 1e-4 and 2.8 E₀ at 1e-5. We pin that bound at
-/// the shipped Δt = 1e-4 (sup E/E₀ ≤ 3.8, 10 % above what we measure). On a 2 × 1 mesh (fewer,
+/// energy *grows*, to about 3.5 E₀ over 1 s at Δt = 1e-4 and 2.8 E₀ at 1e-5. How far it grows at
+/// Δt = 1e-4 is chaotic: moving the obstacle by 1e-15 to 4.5e-14 m (round-off) spreads sup E/E₀
+/// over 2.7–5.7, and a change of the element basis at round-off level over 2.9–7.2; we require it
+/// to stay bounded, sup E/E₀ ≤ 8. On a 2 × 1 mesh (fewer,
 /// softer modes) the deviation over 0.2 s does vanish with Δt as the theory predicts (measured
 /// 1.19, 0.50, 0.036 at Δt = 1e-4, 1e-5, 1e-6): we require it to shrink and end below 0.05.
 /// The imposed constraint holds on the average (u_{n+1} + u_{n−1})/2 to 1e-12 m; u itself
@@ -264,7 +266,7 @@ fn elastic_restitution_energy_bound_and_its_time_step_dependence() {
         penetrations.push(r.penetration);
         deviations.push(ratio);
     }
-    assert!(deviations[0] <= 3.8, "e = 1 energy bound at Δt = 1e-4");
+    assert!(deviations[0] <= 8.0, "e = 1 energy bound at Δt = 1e-4");
     assert!(
         penetrations[1] < 0.2 * penetrations[0],
         "penetration of u must shrink like Δt: {penetrations:?}"

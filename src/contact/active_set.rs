@@ -12,8 +12,8 @@
 //! [`ActiveSetSolver`] solves it by the primal–dual active-set method, which is a semismooth Newton
 //! method on the complementarity function λ − max(0, λ + c (lo − y)) − min(0, λ + c (hi − y))
 //! (Hintermüller, Ito, Kunisch, *The primal–dual active set strategy as a semismooth Newton method*,
-//! SIAM J. Optim. 13(3), 2003): on a working set 𝒜 it solves W_𝒜𝒜 λ_𝒜 = bound_𝒜 − y*_𝒜 by a dense
-//! Cholesky factorisation, sets λ = 0 off 𝒜, and moves to 𝒜 the indices whose y violates a bound and
+//! SIAM J. Optim. 13(3), 2003): on a working set 𝒜 it solves W_𝒜𝒜 λ_𝒜 = bound_𝒜 − y*_𝒜 (a
+//! [`WorkingSetSolver`]), sets λ = 0 off 𝒜, and moves to 𝒜 the indices whose y violates a bound and
 //! out of 𝒜 those whose λ has the wrong sign. When the set repeats, the KKT conditions hold and the
 //! answer is the exact solution of a linear system: a finite identification, then a direct solve.
 //!
@@ -26,112 +26,137 @@
 //! on W_𝒜𝒜, so it needs nothing more from W. If it too fails (iteration limit), the status tells
 //! the caller to fall back to [`crate::contact::clarabel`].
 //!
-//! Only the columns of W indexed by the working set are ever read, so a [`LazyDelassus`] computes
-//! (one A⁻¹ solve each) only the columns of vertices that have touched an obstacle.
+//! The algorithm needs from W only the solution of the equality-constrained subproblem of a working
+//! set, behind the [`WorkingSetSolver`] trait: [`DelassusWorkingSet`] does it with the LDLᵀ factor
+//! of W_𝒜𝒜 kept up to date as indices enter and leave ([`super::block_factor`]), reading only the
+//! columns of W indexed by the working set; [`super::eliminated`] does it in the primal variables
+//! with the active dofs eliminated from A, which is cheaper when many vertices are in contact.
 
-use super::BoundState;
+use super::block_factor::{ActiveBlockFactor, NotPositiveDefinite};
+use super::{BoundState, Delassus};
 
-/// Column access to the Delassus operator W = B A⁻¹ Bᵀ (m × m, symmetric positive definite).
-pub trait Delassus {
+/// The linear algebra of one PDAS iteration: for a working set 𝒜 (the active indices, increasing,
+/// with the bound values they are held at), the multipliers and the constrained values
+///
+/// λ_𝒜 = W_𝒜𝒜⁻¹ (bound_𝒜 − y*_𝒜),  λ_i = 0 off 𝒜,  y = y* + W λ.
+pub trait WorkingSetSolver {
     /// m, the number of constrained values.
     fn dim(&self) -> usize;
-    /// Column j of W, of length m. May compute and cache it on first access.
-    fn column(&mut self, j: usize) -> &[f64];
+    /// Writes λ and y (length m) for the working set `active` held at `bound` (same length), and
+    /// into `scale[i]` for each active i a positive number s_i with s_i ≤ W_ii: λ_i s_i bounds how
+    /// far releasing index i would move y_i, which sets the tolerance of the sign test.
+    fn solve(
+        &mut self,
+        active: &[usize],
+        bound: &[f64],
+        lambda: &mut [f64],
+        y: &mut [f64],
+        scale: &mut [f64],
+    ) -> Result<(), NotPositiveDefinite>;
+    /// One step of iterative refinement of the last [`WorkingSetSolver::solve`] (same set):
+    /// λ_𝒜 += W_𝒜𝒜⁻¹ (bound_𝒜 − y_𝒜), then y = y* + W λ.
+    fn refine(&mut self, active: &[usize], bound: &[f64], lambda: &mut [f64], y: &mut [f64]);
 }
 
-/// A precomputed dense W, column-major.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DenseDelassus {
-    dim: usize,
-    values: Vec<f64>,
+/// What [`DelassusWorkingSet`] keeps between solves: the factor of the active block and two
+/// workspaces.
+#[derive(Clone, Debug, Default)]
+pub struct DelassusWorkspace {
+    factor: ActiveBlockFactor,
+    /// Right-hand side in the factor's order, then λ_𝒜.
+    rhs: Vec<f64>,
+    /// Bound value of each active index, by index.
+    bound_of: Vec<f64>,
 }
 
-impl DenseDelassus {
-    /// W from its m × m entries in column-major order.
-    ///
-    /// # Panics
-    /// If `values.len() != dim * dim`.
-    pub fn new(dim: usize, values: Vec<f64>) -> Self {
-        assert_eq!(values.len(), dim * dim, "DenseDelassus: need dim² values");
-        DenseDelassus { dim, values }
+impl DelassusWorkspace {
+    /// An empty workspace.
+    pub fn new() -> Self {
+        Self::default()
     }
 
-    /// W with entries `entry(i, j)`.
-    pub fn from_fn(dim: usize, mut entry: impl FnMut(usize, usize) -> f64) -> Self {
-        let mut values = Vec::with_capacity(dim * dim);
-        for j in 0..dim {
-            for i in 0..dim {
-                values.push(entry(i, j));
+    /// The factor of the active block and what it did.
+    pub fn factor(&self) -> &ActiveBlockFactor {
+        &self.factor
+    }
+}
+
+/// [`WorkingSetSolver`] on a Delassus operator: the factor of W_𝒜𝒜 updated as the set changes,
+/// y = y* + W λ from the columns of the active indices.
+pub struct DelassusWorkingSet<'a, D: Delassus + ?Sized> {
+    w: &'a mut D,
+    y_star: &'a [f64],
+    work: &'a mut DelassusWorkspace,
+}
+
+impl<'a, D: Delassus + ?Sized> DelassusWorkingSet<'a, D> {
+    /// The subproblems of W with unconstrained values `y_star`, in `work` (whose factor is kept if
+    /// it belongs to the same `w`, see [`Delassus::identity`]).
+    pub fn new(w: &'a mut D, y_star: &'a [f64], work: &'a mut DelassusWorkspace) -> Self {
+        work.factor.adopt(&*w);
+        work.bound_of.resize(w.dim(), 0.0);
+        DelassusWorkingSet { w, y_star, work }
+    }
+
+    /// y = y* + Σ_j λ_j W e_j over the factor's indices.
+    fn constrained_values(&mut self, lambda: &[f64], y: &mut [f64]) {
+        y.copy_from_slice(self.y_star);
+        for &j in self.work.factor.order() {
+            let l = lambda[j];
+            for (yi, ci) in y.iter_mut().zip(self.w.column(j)) {
+                *yi += l * ci;
             }
         }
-        DenseDelassus { dim, values }
-    }
-
-    /// Entry (i, j).
-    pub fn get(&self, i: usize, j: usize) -> f64 {
-        self.values[i + j * self.dim]
     }
 }
 
-impl Delassus for DenseDelassus {
+impl<D: Delassus + ?Sized> WorkingSetSolver for DelassusWorkingSet<'_, D> {
     fn dim(&self) -> usize {
-        self.dim
+        self.w.dim()
     }
 
-    fn column(&mut self, j: usize) -> &[f64] {
-        &self.values[j * self.dim..(j + 1) * self.dim]
-    }
-}
-
-/// W computed column by column on first use and cached: `compute(j, out)` must write
-/// W e_j = B A⁻¹ Bᵀ e_j (length m) into `out`. W is constant while A and c are, so the cache
-/// outlives the time steps; call [`LazyDelassus::clear`] when they change.
-pub struct LazyDelassus<F> {
-    dim: usize,
-    compute: F,
-    /// Column j, or empty while not yet computed.
-    columns: Vec<Vec<f64>>,
-    computed: usize,
-}
-
-impl<F: FnMut(usize, &mut [f64])> LazyDelassus<F> {
-    /// An empty cache for an m × m operator.
-    pub fn new(dim: usize, compute: F) -> Self {
-        LazyDelassus {
-            dim,
-            compute,
-            columns: vec![Vec::new(); dim],
-            computed: 0,
+    fn solve(
+        &mut self,
+        active: &[usize],
+        bound: &[f64],
+        lambda: &mut [f64],
+        y: &mut [f64],
+        scale: &mut [f64],
+    ) -> Result<(), NotPositiveDefinite> {
+        let work = &mut *self.work;
+        work.factor.sync(self.w, active)?;
+        for (&i, &b) in active.iter().zip(bound) {
+            work.bound_of[i] = b;
+            scale[i] = self.w.column(i)[i];
         }
-    }
-
-    /// How many columns have been computed so far.
-    pub fn columns_computed(&self) -> usize {
-        self.computed
-    }
-
-    /// Forget every cached column.
-    pub fn clear(&mut self) {
-        for c in &mut self.columns {
-            c.clear();
+        work.rhs.clear();
+        let (y_star, bound_of) = (self.y_star, &work.bound_of);
+        work.rhs
+            .extend(work.factor.order().iter().map(|&i| bound_of[i] - y_star[i]));
+        work.factor.solve_in_place(&mut work.rhs);
+        lambda.fill(0.0);
+        for (&i, &l) in work.factor.order().iter().zip(&work.rhs) {
+            lambda[i] = l;
         }
-        self.computed = 0;
-    }
-}
-
-impl<F: FnMut(usize, &mut [f64])> Delassus for LazyDelassus<F> {
-    fn dim(&self) -> usize {
-        self.dim
+        self.constrained_values(lambda, y);
+        Ok(())
     }
 
-    fn column(&mut self, j: usize) -> &[f64] {
-        if self.columns[j].is_empty() && self.dim > 0 {
-            let mut col = vec![0.0; self.dim];
-            (self.compute)(j, &mut col);
-            self.columns[j] = col;
-            self.computed += 1;
+    fn refine(&mut self, _active: &[usize], _bound: &[f64], lambda: &mut [f64], y: &mut [f64]) {
+        let work = &mut *self.work;
+        if work.factor.order().is_empty() {
+            return;
         }
-        &self.columns[j]
+        work.rhs.clear();
+        let bound_of = &work.bound_of;
+        work.rhs
+            .extend(work.factor.order().iter().map(|&i| bound_of[i] - y[i]));
+        work.factor.solve_in_place(&mut work.rhs);
+        for (&i, &d) in work.factor.order().iter().zip(&work.rhs) {
+            lambda[i] += d;
+        }
+        // Recompute y from scratch rather than adding a correction: one rounding fewer.
+        self.constrained_values(lambda, y);
     }
 }
 
@@ -194,7 +219,7 @@ impl PdasStatus {
 pub struct PdasReport {
     /// The outcome.
     pub status: PdasStatus,
-    /// PDAS iterations (one Cholesky solve each).
+    /// PDAS iterations (one working-set solve each).
     pub iterations: usize,
     /// Safeguard iterations (0 when it did not run).
     pub safeguard_iterations: usize,
@@ -236,9 +261,10 @@ pub fn solve_box_lcp<D: Delassus + ?Sized>(
     }
 }
 
-/// The Delassus-space active-set solver with its reusable workspace (see the module docs). Keep
-/// one per run: after the first steps, `solve` allocates nothing unless the active set grows past
-/// its largest size so far.
+/// The active-set solver with its reusable workspace (see the module docs). Keep one per run: the
+/// factor of the active block is reused from one solve to the next when the operator has an
+/// [`identity`](Delassus::identity), and after the first steps `solve` allocates little unless
+/// the active set grows past its largest size so far.
 #[derive(Clone, Debug, Default)]
 pub struct ActiveSetSolver {
     lambda: Vec<f64>,
@@ -247,11 +273,9 @@ pub struct ActiveSetSolver {
     active: Vec<usize>,
     /// Their bound values.
     bound: Vec<f64>,
-    /// W_𝒜𝒜 then its Cholesky factor (lower, column-major, k × k).
-    factor: Vec<f64>,
-    /// Right-hand side, then λ_𝒜.
-    rhs: Vec<f64>,
-    /// Diagonal of W, valid on active indices.
+    /// The factor of W_𝒜𝒜 and workspaces used by [`ActiveSetSolver::solve`].
+    delassus: DelassusWorkspace,
+    /// The scale s_i ≤ W_ii of each active index (see [`WorkingSetSolver::solve`]).
     diag: Vec<f64>,
     /// Hashes of the working sets visited by PDAS in this solve.
     history: Vec<u64>,
@@ -259,16 +283,15 @@ pub struct ActiveSetSolver {
     y_iter: Vec<f64>,
 }
 
-/// Outcome of the solve on one working set.
-enum Sub {
-    Ok,
-    NotPd,
-}
-
 impl ActiveSetSolver {
     /// An empty workspace.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// The factor of the active block and what it did (for benchmarks and tests).
+    pub fn factor(&self) -> &ActiveBlockFactor {
+        &self.delassus.factor
     }
 
     /// λ of the last solve (length m).
@@ -281,7 +304,8 @@ impl ActiveSetSolver {
         &self.y
     }
 
-    /// Solve the box LCP y = y* + W λ, lo ≤ y ≤ hi with complementarity (module docs).
+    /// Solve the box LCP y = y* + W λ, lo ≤ y ≤ hi with complementarity (module docs) on the
+    /// Delassus operator `w`, through [`DelassusWorkingSet`].
     ///
     /// `states` is the warm start on entry (the last step's active set; all
     /// [`BoundState::Free`] for a cold start) and the final active set on exit. An entry that
@@ -291,6 +315,26 @@ impl ActiveSetSolver {
     pub fn solve<D: Delassus + ?Sized>(
         &mut self,
         w: &mut D,
+        y_star: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+    ) -> PdasReport {
+        let mut work = std::mem::take(&mut self.delassus);
+        let report = {
+            let mut subproblems = DelassusWorkingSet::new(w, y_star, &mut work);
+            self.solve_with(&mut subproblems, y_star, lower, upper, states, settings)
+        };
+        self.delassus = work;
+        report
+    }
+
+    /// As [`Self::solve`], with the subproblems solved by `subproblems`, whose unconstrained
+    /// values are `y_star`.
+    pub fn solve_with<S: WorkingSetSolver + ?Sized>(
+        &mut self,
+        w: &mut S,
         y_star: &[f64],
         lower: &[f64],
         upper: &[f64],
@@ -346,14 +390,14 @@ impl ActiveSetSolver {
         let mut fell_back = PdasStatus::MaxIterations;
         while report.iterations < settings.max_iter {
             report.iterations += 1;
-            if let Sub::NotPd = self.solve_working_set(w, y_star, lower, upper, states) {
+            if self.solve_working_set(w, lower, upper, states).is_err() {
                 report.status = PdasStatus::NotPositiveDefinite;
                 return report;
             }
             let mut changed = self.update_set(lower, upper, states, tol_y);
             if !changed {
                 // Identified: refine λ once against round-off, then confirm.
-                self.refine(w, y_star);
+                self.refine(w);
                 changed = self.update_set(lower, upper, states, tol_y);
                 if !changed {
                     self.snap_to_bounds(lower, upper, states);
@@ -394,16 +438,14 @@ impl ActiveSetSolver {
     }
 
     /// For the working set `states`: λ_𝒜 = W_𝒜𝒜⁻¹ (bound_𝒜 − y*_𝒜), λ = 0 elsewhere,
-    /// y = y* + W λ. Leaves the Cholesky factor of W_𝒜𝒜 in `self.factor`.
-    fn solve_working_set<D: Delassus + ?Sized>(
+    /// y = y* + W λ (by `w`).
+    fn solve_working_set<S: WorkingSetSolver + ?Sized>(
         &mut self,
-        w: &mut D,
-        y_star: &[f64],
+        w: &mut S,
         lower: &[f64],
         upper: &[f64],
         states: &[BoundState],
-    ) -> Sub {
-        let m = y_star.len();
+    ) -> Result<(), NotPositiveDefinite> {
         self.active.clear();
         self.bound.clear();
         for (i, s) in states.iter().enumerate() {
@@ -419,61 +461,18 @@ impl ActiveSetSolver {
                 }
             }
         }
-        let k = self.active.len();
-        self.factor.clear();
-        self.factor.resize(k * k, 0.0);
-        self.rhs.clear();
-        for q in 0..k {
-            let j = self.active[q];
-            let col = w.column(j);
-            self.diag[j] = col[j];
-            for (p, &i) in self.active.iter().enumerate() {
-                self.factor[p + q * k] = col[i];
-            }
-            self.rhs.push(self.bound[q] - y_star[j]);
-        }
-        if !cholesky_in_place(&mut self.factor, k) {
-            return Sub::NotPd;
-        }
-        cholesky_solve_in_place(&self.factor, k, &mut self.rhs);
-        self.lambda.fill(0.0);
-        self.y.copy_from_slice(&y_star[..m]);
-        for q in 0..k {
-            let j = self.active[q];
-            let l = self.rhs[q];
-            self.lambda[j] = l;
-            let col = w.column(j);
-            for (yi, ci) in self.y.iter_mut().zip(col) {
-                *yi += l * ci;
-            }
-        }
-        Sub::Ok
+        w.solve(
+            &self.active,
+            &self.bound,
+            &mut self.lambda,
+            &mut self.y,
+            &mut self.diag,
+        )
     }
 
-    /// One step of iterative refinement of λ_𝒜 with the factor in place: r = bound_𝒜 − y_𝒜,
-    /// λ_𝒜 += W_𝒜𝒜⁻¹ r, y += W δλ.
-    fn refine<D: Delassus + ?Sized>(&mut self, w: &mut D, y_star: &[f64]) {
-        let k = self.active.len();
-        if k == 0 {
-            return;
-        }
-        for q in 0..k {
-            self.rhs[q] = self.bound[q] - self.y[self.active[q]];
-        }
-        cholesky_solve_in_place(&self.factor, k, &mut self.rhs);
-        for q in 0..k {
-            self.lambda[self.active[q]] += self.rhs[q];
-        }
-        // Recompute y from scratch rather than adding a correction: one rounding fewer.
-        self.y.copy_from_slice(y_star);
-        for q in 0..k {
-            let j = self.active[q];
-            let l = self.lambda[j];
-            let col = w.column(j);
-            for (yi, ci) in self.y.iter_mut().zip(col) {
-                *yi += l * ci;
-            }
-        }
+    /// One step of iterative refinement of λ_𝒜 on the current working set.
+    fn refine<S: WorkingSetSolver + ?Sized>(&mut self, w: &mut S) {
+        w.refine(&self.active, &self.bound, &mut self.lambda, &mut self.y);
     }
 
     /// The PDAS update (c → 0⁺ in the complementarity function): a free index whose y leaves the
@@ -534,9 +533,9 @@ impl ActiveSetSolver {
     /// The safeguard: primal active set method on min ½ (y − y*)ᵀ W⁻¹ (y − y*), lo ≤ y ≤ hi,
     /// from y = clip(y*). Returns the status (`None`: iteration limit) and the iteration count.
     #[allow(clippy::too_many_arguments)]
-    fn primal_active_set<D: Delassus + ?Sized>(
+    fn primal_active_set<S: WorkingSetSolver + ?Sized>(
         &mut self,
-        w: &mut D,
+        w: &mut S,
         y_star: &[f64],
         lower: &[f64],
         upper: &[f64],
@@ -561,7 +560,7 @@ impl ActiveSetSolver {
         let mut it = 0;
         while it < limit {
             it += 1;
-            if let Sub::NotPd = self.solve_working_set(w, y_star, lower, upper, states) {
+            if self.solve_working_set(w, lower, upper, states).is_err() {
                 return (Some(PdasStatus::NotPositiveDefinite), it);
             }
             // Step p = ŷ − y on the free indices (p = 0 on the working set).
@@ -573,7 +572,7 @@ impl ActiveSetSolver {
             }
             if step <= tol_y {
                 // At the subproblem minimiser: optimal unless some multiplier has the wrong sign.
-                self.refine(w, y_star);
+                self.refine(w);
                 let mut worst = None;
                 let mut worst_val = tol_y;
                 for &i in &self.active {
@@ -658,76 +657,10 @@ fn hash_states(states: &[BoundState]) -> u64 {
     h
 }
 
-/// Cholesky factorisation L Lᵀ of the k × k SPD matrix `a` (column-major, lower triangle read),
-/// in place in the lower triangle. False if a pivot is not positive.
-fn cholesky_in_place(a: &mut [f64], k: usize) -> bool {
-    for j in 0..k {
-        let d = a[j + j * k];
-        if d <= 0.0 || !d.is_finite() {
-            return false;
-        }
-        let d = d.sqrt();
-        a[j + j * k] = d;
-        for i in j + 1..k {
-            a[i + j * k] /= d;
-        }
-        // Right-looking update of the trailing lower triangle, column by column.
-        for c in j + 1..k {
-            let l = a[c + j * k];
-            if l == 0.0 {
-                continue;
-            }
-            let (left, right) = a.split_at_mut(c * k);
-            let src = &left[j * k..(j + 1) * k];
-            let dst = &mut right[..k];
-            for i in c..k {
-                dst[i] -= l * src[i];
-            }
-        }
-    }
-    true
-}
-
-/// Solve L Lᵀ x = r in place with the factor of [`cholesky_in_place`].
-fn cholesky_solve_in_place(l: &[f64], k: usize, r: &mut [f64]) {
-    for j in 0..k {
-        let v = r[j] / l[j + j * k];
-        r[j] = v;
-        for i in j + 1..k {
-            r[i] -= l[i + j * k] * v;
-        }
-    }
-    for j in (0..k).rev() {
-        let mut v = r[j];
-        for i in j + 1..k {
-            v -= l[i + j * k] * r[i];
-        }
-        r[j] = v / l[j + j * k];
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn cholesky_solves_a_small_system() {
-        // A = [[4, 2, 0], [2, 5, 1], [0, 1, 3]], x = [1, -1, 2].
-        let a = [4.0, 2.0, 0.0, 2.0, 5.0, 1.0, 0.0, 1.0, 3.0];
-        let x = [1.0, -1.0, 2.0];
-        let mut r = [0.0; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                r[i] += a[i + 3 * j] * x[j];
-            }
-        }
-        let mut f = a;
-        assert!(cholesky_in_place(&mut f, 3));
-        cholesky_solve_in_place(&f, 3, &mut r);
-        for i in 0..3 {
-            assert!((r[i] - x[i]).abs() < 1e-14);
-        }
-    }
+    use crate::contact::DenseDelassus;
 
     #[test]
     fn one_contact_by_hand() {

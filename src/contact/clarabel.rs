@@ -17,7 +17,7 @@ use ::clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 
-use super::{BoundState, BoxQp, QpSolution};
+use super::{add_product, BoundState, BoxQp, QpSolution};
 use crate::Error;
 
 /// Target of every accuracy tolerance in [`reference_settings`] (scaled units, see the module docs).
@@ -27,7 +27,7 @@ pub const REFERENCE_TOLERANCE: f64 = 1e-12;
 ///
 /// * `tol_gap_abs`, `tol_gap_rel`, `tol_feas` = [`REFERENCE_TOLERANCE`] (default 1e-8). An
 ///   interior-point iterate stops short of the active bounds by an amount that shrinks with the
-///   gap; the defaults leave about 3e-6 m on a 32-contact Argyris step (issue 3), far from the
+///   gap; the defaults leave about 3e-6 m on a 32-contact Argyris step, far from the
 ///   1e-9 m at which the fast path must agree with this reference.
 /// * `tol_ktratio` = 1e-10 (default 1e-6): the κ/τ test of the homogeneous embedding must not stop
 ///   the solver before the gap and feasibility tests do.
@@ -71,6 +71,9 @@ pub fn reference_settings() -> DefaultSettings<f64> {
 /// active set long before that; solving the equality-constrained problem on that set and checking
 /// feasibility and the multipliers' signs gives the QP's exact solution to round-off, with a
 /// certificate that does not depend on how the set was found.
+///
+/// When the polish fails (no certified set within its rounds), the interior-point answer is
+/// returned with [`QpSolution::polished`] false, so that the caller can say so.
 pub fn solve_box_qp(qp: &BoxQp<'_>) -> Result<QpSolution, Error> {
     let raw = solve_box_qp_with(qp, reference_settings())?;
     Ok(polish(qp, &raw.states).unwrap_or(raw))
@@ -140,12 +143,7 @@ fn solve_on_active_set(
     }
     // λ on the constrained rows: (A x − b)_c.
     let mut residual: Vec<f64> = qp.b.iter().map(|b| -b).collect();
-    for (j, &xj) in x.iter().enumerate() {
-        let range = a.col_range(j);
-        for (&i, &v) in a.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
-            residual[i] += v * xj;
-        }
-    }
+    add_product(a, &x, 1.0, &mut residual);
     let scale_x = qp
         .lower
         .iter()
@@ -178,6 +176,7 @@ fn solve_on_active_set(
         x,
         lambda,
         states: corrected,
+        polished: true,
     }))
 }
 
@@ -341,7 +340,12 @@ pub fn solve_box_qp_with(
             BoundState::Free
         };
     }
-    Ok(QpSolution { x, lambda, states })
+    Ok(QpSolution {
+        x,
+        lambda,
+        states,
+        polished: false,
+    })
 }
 
 /// +1 for the lower bound (λ ≥ 0), −1 for the upper (λ ≤ 0).

@@ -1,4 +1,4 @@
-//! The contact problem of one time step (SPEC §3): a strictly convex QP with bounds on a subset of
+//! The contact problem of one time step (docs/scheme.md): a strictly convex QP with bounds on a subset of
 //! the unknowns,
 //!
 //! min ½ xᵀ A x − bᵀ x   subject to   lo_i ≤ x_{c_i} ≤ hi_i   (i = 0..m),
@@ -12,23 +12,52 @@
 //!
 //! Two solvers, one exact each:
 //! * [`active_set`]: the fast path, in the Delassus space y = B x. Given the unconstrained solution
-//!   x* = A⁻¹ b, y* = B x* and W = B A⁻¹ Bᵀ (reachable column by column through the [`Delassus`]
-//!   trait), it solves the box LCP y = y* + W λ by a primal–dual active-set (semismooth Newton)
-//!   method warm-started from the previous step, with a primal active-set safeguard; the caller then
-//!   sets x = x* + A⁻¹ Bᵀ λ.
+//!   x* = A⁻¹ b, y* = B x* and W = B A⁻¹ Bᵀ, it solves the box LCP y = y* + W λ by a primal–dual
+//!   active-set (semismooth Newton) method warm-started from the previous step, with a primal
+//!   active-set safeguard. Each iteration solves the subproblem of one working set, either on W
+//!   ([`delassus`]: columns of W, precomputed or cached within a memory budget, and the factor of
+//!   the active block updated as indices enter and leave, [`block_factor`]; the caller then sets
+//!   x = x* + A⁻¹ Bᵀ λ) or in the primal variables with the active dofs eliminated from a sparse A
+//!   ([`eliminated`], which returns x itself). [`sparse_contact`] puts the factor of A, the cached
+//!   columns, the elimination and the rule that chooses between them in one object for a sparse
+//!   backend.
 //! * [`clarabel`]: the reference, the full primal QP handed to the Clarabel interior-point solver with
 //!   tightened tolerances ([`clarabel::reference_settings`]), then polished on its active set with a
 //!   KKT certificate ([`clarabel::polish`]).
 
 pub mod active_set;
+pub mod block_factor;
 pub mod clarabel;
+pub mod delassus;
+pub mod eliminated;
+pub mod sparse_contact;
 
 pub use active_set::{
-    solve_box_lcp, ActiveSetSolver, Delassus, DenseDelassus, LazyDelassus, LcpSolution, PdasReport,
-    PdasSettings, PdasStatus,
+    solve_box_lcp, ActiveSetSolver, DelassusWorkingSet, LcpSolution, PdasReport, PdasSettings,
+    PdasStatus, WorkingSetSolver,
 };
+pub use delassus::{Delassus, DelassusCache, DenseDelassus};
 
+use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::SparseColMatRef;
+use faer::{Accum, ColMut, ColRef, Par};
+
+/// out ← out + α A x for a sparse A (faer's sparse × dense product).
+pub(crate) fn add_product(
+    a: SparseColMatRef<'_, usize, f64>,
+    x: &[f64],
+    alpha: f64,
+    out: &mut [f64],
+) {
+    sparse_dense_matmul(
+        ColMut::from_slice_mut(out).as_mat_mut(),
+        Accum::Add,
+        a,
+        ColRef::from_slice(x).as_mat(),
+        alpha,
+        Par::Seq,
+    );
+}
 
 /// Where a constrained value sits relative to its bounds lo_i ≤ y_i ≤ hi_i: the working-set label
 /// of one index in the active-set methods, and the contact state of one vertex.
@@ -69,6 +98,10 @@ pub struct BoxQp<'a> {
 /// The solution of a [`BoxQp`]: the minimiser, the multipliers and the contact states.
 #[derive(Clone, Debug, PartialEq)]
 pub struct QpSolution {
+    /// Whether x is the exact minimiser certified by the KKT conditions on its active set
+    /// ([`clarabel::polish`]); false for an interior-point answer whose polish failed, which is
+    /// accurate only to the solver's tolerances (a few 1e-8 m on plate steps).
+    pub polished: bool,
     /// x, length n.
     pub x: Vec<f64>,
     /// λ, length m, with A x = b + Bᵀ λ and the signs of the module docs.

@@ -243,43 +243,21 @@ impl CellBasis for ArgyrisCell {
     }
 }
 
-/// Inverse of a dense N × N matrix by Gauss–Jordan elimination with partial pivoting.
+/// Inverse of the dense N × N dof matrix, by faer's LU factorisation with partial pivoting.
 ///
 /// # Panics
-/// If a pivot vanishes (a degenerate triangle).
-fn invert(mut a: [[f64; N]; N]) -> [[f64; N]; N] {
-    let mut inv = [[0.0; N]; N];
-    for (i, row) in inv.iter_mut().enumerate() {
-        row[i] = 1.0;
-    }
-    for col in 0..N {
-        let pivot = (col..N)
-            .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
-            .expect("non-empty range");
-        assert!(
-            a[pivot][col].abs() > 1e-13,
-            "singular Argyris dof matrix (degenerate triangle?)"
-        );
-        a.swap(col, pivot);
-        inv.swap(col, pivot);
-        let d = 1.0 / a[col][col];
-        for j in 0..N {
-            a[col][j] *= d;
-            inv[col][j] *= d;
-        }
-        for i in 0..N {
-            if i != col {
-                let f = a[i][col];
-                if f != 0.0 {
-                    for j in 0..N {
-                        a[i][j] -= f * a[col][j];
-                        inv[i][j] -= f * inv[col][j];
-                    }
-                }
-            }
-        }
-    }
-    inv
+/// If a pivot of U is below 1e-13 (the entries are O(1) by the scalings of the module docs, so this
+/// is a degenerate triangle).
+fn invert(a: [[f64; N]; N]) -> [[f64; N]; N] {
+    use faer::linalg::solvers::DenseSolveCore;
+    let lu = faer::Mat::from_fn(N, N, |i, j| a[i][j]).partial_piv_lu();
+    let u = lu.U();
+    assert!(
+        (0..N).all(|i| u[(i, i)].abs() > 1e-13),
+        "singular Argyris dof matrix (degenerate triangle?)"
+    );
+    let inverse = lu.inverse();
+    std::array::from_fn(|i| std::array::from_fn(|j| inverse[(i, j)]))
 }
 
 #[cfg(test)]

@@ -1,0 +1,291 @@
+//! An estimate of the memory that setting up and running a scene needs, from the scene alone
+//! (before anything is assembled), so that a scene too large for the host can be refused with a
+//! message that names the estimate.
+//!
+//! The sizes follow from the mesh: V = (nx + 1)(ny + 1) vertices, ny + 1 of them on the clamp;
+//! Argyris has 6 dofs per vertex and one per edge (E = nx(ny + 1) + (nx + 1)ny + nx·ny edges), of
+//! which the clamp fixes 5 per clamp vertex and the ny clamp edges; FVS has 3 dofs per vertex, all
+//! fixed on the clamp. The m = nx(ny + 1) vertices off the clamp are the constrained ones.
+//!
+//! The memory, in parts (bytes; a sparse entry is an f64 and a usize index, 16 bytes; an assembly
+//! triplet 24 bytes):
+//!
+//! * assembly: the element matrices as triplets, 2·cells·d² (d = 21 for Argyris, 12 for FVS), held
+//!   while M and K are built (2·nnz entries, and about 8 bytes per triplet of workspace while one
+//!   of them is sorted), where nnz ≈ 45 n (Argyris) or 27 n (FVS) entries over all n dofs
+//!   (measured: 44.7 n and 26.1 n on 60 × 30, 45.1 n and 26.5 n on 100 × 50);
+//! * the assembled system: M and K over all dofs and M_ff, K_ff, A_ff over the free ones, five
+//!   sparse matrices;
+//! * the modal backend (up to [`crate::scheme::MODAL_AUTO_LIMIT`] free dofs with `auto`): the dense
+//!   generalized eigenproblem holds [`MODAL_DENSE_COPIES`] n × n matrices at its peak, then
+//!   C = BΦ and D⁻¹Cᵀ (2 m n) and W (m²);
+//! * the sparse backend: the Cholesky factor of A_ff, nnz(L) ≈ L₀ (n / n₀)^1.25 with (n₀, L₀) the
+//!   factor measured with faer's AMD ordering on the 100 × 50 mesh (Argyris: 46 056 dofs,
+//!   9 067 318 entries; FVS: 15 453 dofs, 1 404 531 entries): the fill grows a little faster than
+//!   n (exponent 1.19–1.23 between 60 × 30 and 100 × 50), and 1.25 errs on the large side above
+//!   the anchor;
+//! * contact, at worst: on the modal path the factor of an active block of all m vertices (m²
+//!   values); on the sparse path ([`crate::contact::sparse_contact`]) the Delassus columns within
+//!   [`DEFAULT_DELASSUS_BUDGET`], the factor of an active block of up to
+//!   [`delassus_limit`] indices, and for larger sets the primal elimination (a second numeric
+//!   factor and a copy of A_ff).
+//!
+//! The estimate is the larger of the assembly peak and what the set-up holds afterwards, plus the
+//! contact part. It is checked against the measured peak resident memory (`examples/bench.rs
+//! -- --scale`) for both elements from 10 × 7 to 100 × 50 in the tests.
+
+use crate::contact::delassus::DEFAULT_DELASSUS_BUDGET;
+use crate::contact::sparse_contact::delassus_limit;
+use crate::element::ElementKind;
+use crate::error::Error;
+use crate::scene::{LinearChoice, Scene};
+use crate::scheme::MODAL_AUTO_LIMIT;
+
+/// n × n dense matrices alive at the peak of the modal set-up (dense M_ff and K_ff, the Cholesky
+/// factor of K_ff, the transformed pencil and its symmetric copy, the eigensolver's vectors and
+/// workspace, the mode shapes): the peak resident memory measured 8.1 n² values at n = 1 951
+/// (Argyris 20 × 10), the rest of the process included.
+pub const MODAL_DENSE_COPIES: f64 = 8.0;
+
+/// Memory budget a set-up may need before it is refused: 4 GiB, a sixth of this 24 GiB machine.
+pub const DEFAULT_MEMORY_BUDGET: usize = 4 << 30;
+
+/// The sizes of a scene's discrete problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ProblemSize {
+    /// Cells along x and y.
+    pub mesh: (usize, usize),
+    /// All dofs, clamp included.
+    pub dofs: usize,
+    /// Free dofs (n).
+    pub free_dofs: usize,
+    /// Obstacle-constrained vertices (m; 0 without obstacles).
+    pub constrained: usize,
+    /// Cells of the mesh (triangles for Argyris, quadrilaterals for FVS).
+    pub cells: usize,
+}
+
+impl ProblemSize {
+    /// The sizes of `scene`'s mesh (module docs).
+    pub fn of(scene: &Scene) -> ProblemSize {
+        let (nx, ny) = (scene.mesh.nx, scene.mesh.ny);
+        let vertices = (nx + 1) * (ny + 1);
+        let (dofs, clamp, cells) = match scene.mesh.element {
+            ElementKind::Argyris => {
+                let edges = nx * (ny + 1) + (nx + 1) * ny + nx * ny;
+                (6 * vertices + edges, 5 * (ny + 1) + ny, 2 * nx * ny)
+            }
+            ElementKind::Fvs => (3 * vertices, 3 * (ny + 1), nx * ny),
+        };
+        let obstacle = scene.obstacle.lower_enabled || scene.obstacle.upper_enabled;
+        ProblemSize {
+            mesh: (nx, ny),
+            dofs,
+            free_dofs: dofs - clamp,
+            constrained: if obstacle { nx * (ny + 1) } else { 0 },
+            cells,
+        }
+    }
+}
+
+/// The estimated memory of a set-up, in parts (bytes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MemoryEstimate {
+    /// The sizes it was computed from.
+    pub size: ProblemSize,
+    /// The backend `auto` (or the scene's choice) gives.
+    pub backend: LinearChoice,
+    /// Peak while M and K are assembled.
+    pub assembly: usize,
+    /// The assembled sparse matrices kept afterwards.
+    pub system: usize,
+    /// The linear backend (dense modal data at its set-up peak, or the sparse factor).
+    pub backend_data: usize,
+    /// Contact structures at worst (every constrained vertex active).
+    pub contact: usize,
+}
+
+impl MemoryEstimate {
+    /// The estimate of `scene` (module docs).
+    pub fn of(scene: &Scene) -> MemoryEstimate {
+        let size = ProblemSize::of(scene);
+        let (n, m) = (size.free_dofs as f64, size.constrained as f64);
+        let (entries_per_dof, cell_dofs, n0, l0) = match scene.mesh.element {
+            ElementKind::Argyris => (45.0, 21.0, 46_056.0, 9_067_318.0),
+            ElementKind::Fvs => (27.0, 12.0, 15_453.0, 1_404_531.0),
+        };
+        let backend = match scene.solver.linear {
+            LinearChoice::Auto if size.free_dofs <= MODAL_AUTO_LIMIT => LinearChoice::Modal,
+            LinearChoice::Auto => LinearChoice::Sparse,
+            choice => choice,
+        };
+        let nnz_all = entries_per_dof * size.dofs as f64;
+        let nnz_free = entries_per_dof * n;
+        let triplets_per_matrix = size.cells as f64 * cell_dofs * cell_dofs;
+        let assembly = triplets_per_matrix * (2.0 * 24.0 + 8.0) + 2.0 * nnz_all * 16.0;
+        let system = 2.0 * nnz_all * 16.0 + 3.0 * nnz_free * 16.0;
+        let (backend_data, contact) = match backend {
+            // W is part of the modal data; the active block's factor may reach m × m.
+            LinearChoice::Modal => (
+                8.0 * (MODAL_DENSE_COPIES * n * n + 2.0 * m * n + m * m),
+                8.0 * m * m,
+            ),
+            _ => {
+                let factor = l0 * (n / n0).powf(1.25) * 8.0;
+                let columns = (8.0 * m * m).min(DEFAULT_DELASSUS_BUDGET as f64);
+                let block = 8.0 * (delassus_limit(size.constrained) as f64).powi(2);
+                let eliminated = factor + nnz_free * 16.0;
+                (factor, columns + block + eliminated)
+            }
+        };
+        MemoryEstimate {
+            size,
+            backend,
+            assembly: assembly as usize,
+            system: system as usize,
+            backend_data: backend_data as usize,
+            contact: contact as usize,
+        }
+    }
+
+    /// The estimated peak of the set-up: the larger of the assembly peak and what the set-up
+    /// holds afterwards.
+    pub fn setup(&self) -> usize {
+        self.assembly.max(self.system + self.backend_data)
+    }
+
+    /// The estimated peak of a run: [`Self::setup`] plus the contact structures at worst.
+    pub fn total(&self) -> usize {
+        self.setup() + self.contact
+    }
+
+    /// Ok when [`Self::total`] fits `budget` bytes; otherwise an error that names the estimate,
+    /// its largest part and the budget.
+    pub fn check(&self, budget: usize) -> Result<(), Error> {
+        if self.total() <= budget {
+            return Ok(());
+        }
+        let mib = |b: usize| b as f64 / (1u64 << 20) as f64;
+        let parts = [
+            ("assembly", self.assembly),
+            ("assembled matrices", self.system),
+            ("linear backend", self.backend_data),
+            ("contact structures", self.contact),
+        ];
+        let (name, bytes) = parts.iter().max_by_key(|p| p.1).expect("four parts");
+        Err(Error::invalid(
+            "mesh.nx, mesh.ny",
+            format!(
+                "{} × {} ({:?} backend, {} free dofs, {} constrained vertices)",
+                self.size.mesh.0,
+                self.size.mesh.1,
+                self.backend,
+                self.size.free_dofs,
+                self.size.constrained
+            ),
+            &format!(
+                "needs an estimated {:.0} MiB (largest part: {name}, {:.0} MiB), more than the \
+                 memory budget of {:.0} MiB",
+                mib(self.total()),
+                mib(*bytes),
+                mib(budget)
+            ),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::PlateSystem;
+
+    fn scene(element: ElementKind, nx: usize, ny: usize) -> Scene {
+        let mut s = Scene::named("forced-35hz").unwrap();
+        s.mesh.element = element;
+        s.mesh.nx = nx;
+        s.mesh.ny = ny;
+        s
+    }
+
+    #[test]
+    fn sizes_match_the_assembled_plate() {
+        for (element, nx, ny) in [
+            (ElementKind::Argyris, 1, 1),
+            (ElementKind::Argyris, 10, 7),
+            (ElementKind::Argyris, 7, 3),
+            (ElementKind::Fvs, 1, 1),
+            (ElementKind::Fvs, 14, 10),
+            (ElementKind::Fvs, 9, 4),
+        ] {
+            let s = scene(element, nx, ny);
+            let plate = PlateSystem::new(&s).unwrap();
+            let size = ProblemSize::of(&s);
+            assert_eq!(size.dofs, plate.disc.dof_count, "{element:?} {nx}×{ny}");
+            assert_eq!(size.free_dofs, plate.free.len(), "{element:?} {nx}×{ny}");
+            assert_eq!(
+                size.constrained,
+                plate.constrained.len(),
+                "{element:?} {nx}×{ny}"
+            );
+            assert_eq!(
+                size.cells,
+                plate.disc.mesh.cells.len(),
+                "{element:?} {nx}×{ny}"
+            );
+        }
+        let mut free_plate = scene(ElementKind::Fvs, 4, 2);
+        free_plate.obstacle.lower_enabled = false;
+        free_plate.obstacle.upper_enabled = false;
+        assert_eq!(ProblemSize::of(&free_plate).constrained, 0);
+    }
+
+    /// The set-up estimate against the peak resident memory measured by `cargo run --release
+    /// --example bench -- --scale` (VmHWM after `Stepper::from_system`, the process's own few MiB
+    /// included), on this machine.
+    #[test]
+    fn the_setup_estimate_follows_the_measured_peaks() {
+        let measured_mib = [
+            (ElementKind::Argyris, 10, 7, 40.0),
+            (ElementKind::Argyris, 20, 10, 247.0),
+            (ElementKind::Argyris, 40, 20, 53.0),
+            (ElementKind::Argyris, 60, 30, 114.0),
+            (ElementKind::Argyris, 100, 50, 307.0),
+            (ElementKind::Fvs, 14, 10, 20.0),
+            (ElementKind::Fvs, 20, 10, 35.0),
+            (ElementKind::Fvs, 40, 20, 14.0),
+            (ElementKind::Fvs, 60, 30, 25.0),
+            (ElementKind::Fvs, 100, 50, 63.0),
+        ];
+        // The process's own peak before any set-up: 5 MiB, measured on a 1 × 1 mesh.
+        let process = 5.0;
+        for (element, nx, ny, measured) in measured_mib {
+            let estimate = MemoryEstimate::of(&scene(element, nx, ny));
+            let ratio = estimate.setup() as f64 / (1u64 << 20) as f64 / (measured - process);
+            println!("{element:?} {nx}×{ny}: estimate / measured = {ratio:.2}");
+            // The spread of the calibration (assembly workspace, dense copies, fill exponent),
+            // and a measured peak rounded to 1 MiB.
+            assert!(
+                (0.85..=1.2).contains(&ratio),
+                "{element:?} {nx}×{ny}: estimate / measured = {ratio:.2}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_estimate_over_the_budget_is_refused_by_name() {
+        let estimate = MemoryEstimate::of(&scene(ElementKind::Argyris, 400, 400));
+        assert_eq!(estimate.backend, LinearChoice::Sparse);
+        let err = estimate
+            .check(DEFAULT_MEMORY_BUDGET)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("mesh.nx, mesh.ny") && err.contains("400 × 400"),
+            "{err}"
+        );
+        assert!(err.contains("MiB") && err.contains("4096 MiB"), "{err}");
+        assert!(MemoryEstimate::of(&scene(ElementKind::Fvs, 14, 10))
+            .check(DEFAULT_MEMORY_BUDGET)
+            .is_ok());
+    }
+}

@@ -1,0 +1,322 @@
+//! The working-set subproblem in the primal variables, for a sparse A: the active dofs are held at
+//! their bounds and eliminated, and the others solve the reduced system.
+//!
+//! For the QP min ½ xᵀ A x − bᵀ x with the dofs E fixed (E = the always-fixed dofs, e.g. a clamp at
+//! zero, and the constrained dofs c_i of the working set 𝒜 at their bound values g), the free dofs F
+//! solve A_FF x_F = b_F − A_FE x_E, and the multipliers are λ_i = (A x − b)_{c_i} on 𝒜: the same λ
+//! and y = B x as the Delassus subproblem W_𝒜𝒜 λ_𝒜 = g − y*_𝒜, without forming any column of W.
+//!
+//! A_FF is factored as the matrix of A's own sparsity pattern whose rows and columns in E are
+//! replaced by those of the diagonal matrix diag(A_jj): the symbolic analysis (ordering, elimination
+//! tree, supernodes) of A is done once, and a change of working set costs one numeric sparse
+//! Cholesky factorisation; a working set that repeats from one step to the next (a plate resting on
+//! an obstacle) reuses the factor and costs two triangular solves. Each solve is followed by one
+//! step of iterative refinement on the reduced system.
+//!
+//! The sign test of the active-set method needs, for each active i, a scale s_i ≤ W_ii; here
+//! s_i = 1 / A_{c_i c_i}, which holds because (A⁻¹)_jj ≥ 1 / A_jj for any SPD A (Cauchy–Schwarz).
+//! With it a wrong-signed λ_i is tolerated up to tol·A_ii instead of tol / W_ii: the tolerance of
+//! [`super::PdasSettings::tol`] in λ is looser by the factor W_ii A_ii (of order one for the mass-
+//! dominated A = M + ½Δt²K of a time step).
+
+use super::block_factor::NotPositiveDefinite;
+use super::WorkingSetSolver;
+use crate::Error;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::matmul::sparse_dense_matmul;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::SparseColMat;
+use faer::{Accum, ColMut, Mat, MatMut, Par, Side};
+use std::sync::Arc;
+
+/// What an [`EliminatedSystem`] did so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EliminatedStats {
+    /// Numeric factorisations (one per new working set).
+    pub factorizations: usize,
+    /// Right-hand sides solved with a factor (two triangular solves and a refinement each).
+    pub solves: usize,
+}
+
+/// A sparse SPD A with some dofs always fixed at zero and constrained dofs that a working set
+/// fixes at their bounds (module docs).
+pub struct EliminatedSystem {
+    a: Arc<SparseColMat<usize, f64>>,
+    /// The constrained dofs c_i.
+    constrained: Vec<usize>,
+    symbolic: SymbolicLlt<usize>,
+    /// A with the rows and columns of the fixed dofs replaced by diag(A_jj); allocated on the
+    /// first factorisation that eliminates anything (until then the factor is A's own).
+    reduced: Option<SparseColMat<usize, f64>>,
+    /// Whether `factor` is the factor of `reduced` (else of A).
+    uses_reduced: bool,
+    factor: Option<Llt<usize, f64>>,
+    /// The working set (increasing constrained indices) that `factor` eliminates.
+    factored: Vec<usize>,
+    /// Whether each dof is eliminated in `factor`.
+    eliminated: Vec<bool>,
+    always_fixed: Vec<usize>,
+    diagonal: Vec<f64>,
+    b: Vec<f64>,
+    x_star: Vec<f64>,
+    x: Vec<f64>,
+    residual: Mat<f64>,
+    stats: EliminatedStats,
+}
+
+impl EliminatedSystem {
+    /// The system of `a` (n × n, SPD, both triangles stored) with the dofs `fixed` held at zero and
+    /// the constrained dofs `constrained` (distinct, not fixed). Runs the symbolic analysis and
+    /// factors A with nothing but the fixed dofs eliminated.
+    pub fn new(
+        a: Arc<SparseColMat<usize, f64>>,
+        fixed: &[usize],
+        constrained: &[usize],
+    ) -> Result<EliminatedSystem, Error> {
+        let n = a.nrows();
+        let a_ref = a.as_ref();
+        let symbolic = SymbolicLlt::try_new(a.symbolic(), Side::Lower).map_err(|e| {
+            Error::Numerical(format!("symbolic sparse Cholesky analysis failed ({e:?})"))
+        })?;
+        let mut diagonal = vec![0.0; n];
+        for (j, d) in diagonal.iter_mut().enumerate() {
+            for (i, &v) in a_ref.row_idx_of_col(j).zip(a_ref.val_of_col(j)) {
+                if i == j {
+                    *d = v;
+                }
+            }
+        }
+        if let Some(j) = (0..n).find(|&j| !(diagonal[j] > 0.0 && diagonal[j].is_finite())) {
+            return Err(Error::Numerical(format!(
+                "the diagonal entry A[{j}, {j}] = {} is not positive",
+                diagonal[j]
+            )));
+        }
+        EliminatedSystem::with_analysis(a, symbolic, diagonal, fixed, constrained)
+    }
+
+    /// A second system on the same A, fixed and constrained dofs, sharing A and its symbolic
+    /// analysis, with a numeric factor of its own: one can keep A's factor for unconstrained
+    /// solves while the other factors working sets.
+    pub fn share(&self) -> Result<EliminatedSystem, Error> {
+        EliminatedSystem::with_analysis(
+            Arc::clone(&self.a),
+            self.symbolic.clone(),
+            self.diagonal.clone(),
+            &self.always_fixed,
+            &self.constrained,
+        )
+    }
+
+    /// The system from A, its symbolic analysis and its diagonal, factored with nothing but the
+    /// fixed dofs eliminated.
+    fn with_analysis(
+        a: Arc<SparseColMat<usize, f64>>,
+        symbolic: SymbolicLlt<usize>,
+        diagonal: Vec<f64>,
+        fixed: &[usize],
+        constrained: &[usize],
+    ) -> Result<EliminatedSystem, Error> {
+        let n = a.nrows();
+        let mut system = EliminatedSystem {
+            a,
+            constrained: constrained.to_vec(),
+            symbolic,
+            reduced: None,
+            uses_reduced: false,
+            factor: None,
+            factored: Vec::new(),
+            eliminated: vec![false; n],
+            always_fixed: fixed.to_vec(),
+            diagonal,
+            b: vec![0.0; n],
+            x_star: vec![0.0; n],
+            x: vec![0.0; n],
+            residual: Mat::zeros(n, 1),
+            stats: EliminatedStats::default(),
+        };
+        system.refactor(&[]).map_err(|_| not_positive_definite())?;
+        Ok(system)
+    }
+
+    /// The constrained dofs.
+    pub fn constrained(&self) -> &[usize] {
+        &self.constrained
+    }
+
+    /// Sets the QP of the step: its linear term `b` and its unconstrained minimiser `x_star`
+    /// (length n, x* = 0 on the fixed dofs), from which the working-set solves start.
+    pub fn set_step(&mut self, b: &[f64], x_star: &[f64]) {
+        self.b.copy_from_slice(b);
+        self.x_star.copy_from_slice(x_star);
+    }
+
+    /// x of the last working-set solve (length n): the QP's minimiser once the active-set method
+    /// has identified the set.
+    pub fn x(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// Counts of factorisations and solves.
+    pub fn stats(&self) -> EliminatedStats {
+        self.stats
+    }
+
+    /// Solves A_FF x_F = b_F with no constrained dof eliminated (x = 0 on the fixed dofs): the
+    /// unconstrained step. Refactors if the factor holds a working set.
+    pub fn solve_unconstrained(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        x.copy_from_slice(b);
+        self.solve_unconstrained_in_place(ColMut::from_slice_mut(x).as_mat_mut())
+    }
+
+    /// As [`Self::solve_unconstrained`], in place on the columns of `b` (n × r): several right-hand
+    /// sides stream the factor once, e.g. a block of columns of A⁻¹ Bᵀ for the Delassus operator.
+    pub fn solve_unconstrained_in_place(&mut self, mut b: MatMut<'_, f64>) -> Result<(), Error> {
+        if !self.factored.is_empty() {
+            self.refactor(&[]).map_err(|_| not_positive_definite())?;
+        }
+        for &j in &self.always_fixed {
+            for c in 0..b.ncols() {
+                b[(j, c)] = 0.0;
+            }
+        }
+        self.solve_reduced(b);
+        Ok(())
+    }
+
+    /// Factors the reduced matrix of the working set `active` (increasing constrained indices).
+    fn refactor(&mut self, active: &[usize]) -> Result<(), NotPositiveDefinite> {
+        self.eliminated.fill(false);
+        for &j in &self.always_fixed {
+            self.eliminated[j] = true;
+        }
+        for &i in active {
+            self.eliminated[self.constrained[i]] = true;
+        }
+        self.factor = None;
+        self.factored.clear();
+        self.uses_reduced = !(self.always_fixed.is_empty() && active.is_empty());
+        let factor = if !self.uses_reduced {
+            Llt::try_new_with_symbolic(self.symbolic.clone(), self.a.as_ref().as_ref(), Side::Lower)
+        } else {
+            // `reduced` is a copy of A: same pattern, same storage order of the values.
+            let reduced = self.reduced.get_or_insert_with(|| (*self.a).clone());
+            let (eliminated, diagonal) = (&self.eliminated, &self.diagonal);
+            let source = self.a.as_ref().as_ref();
+            let target = reduced.val_mut();
+            for j in 0..source.ncols() {
+                let range = source.col_range(j);
+                let rows = &source.row_idx()[range.clone()];
+                let values = &source.val()[range.clone()];
+                for ((&i, &v), t) in rows.iter().zip(values).zip(&mut target[range]) {
+                    *t = if !(eliminated[i] || eliminated[j]) {
+                        v
+                    } else if i == j {
+                        diagonal[j]
+                    } else {
+                        0.0
+                    };
+                }
+            }
+            Llt::try_new_with_symbolic(self.symbolic.clone(), reduced.as_ref(), Side::Lower)
+        }
+        .map_err(|_| NotPositiveDefinite)?;
+        self.factor = Some(factor);
+        self.factored.extend_from_slice(active);
+        self.stats.factorizations += 1;
+        Ok(())
+    }
+
+    /// x ← reduced⁻¹ x for each column of x, with one step of iterative refinement
+    /// (r = x − reduced·x̂, x̂ += reduced⁻¹ r).
+    fn solve_reduced(&mut self, mut x: MatMut<'_, f64>) {
+        let factor = self.factor.as_ref().expect("factored at construction");
+        self.residual.resize_with(x.nrows(), x.ncols(), |_, _| 0.0);
+        self.residual.copy_from(x.as_ref());
+        factor.solve_in_place(x.as_mut());
+        let matrix = match &self.reduced {
+            Some(reduced) if self.uses_reduced => reduced.as_ref(),
+            _ => self.a.as_ref().as_ref(),
+        };
+        sparse_dense_matmul(
+            self.residual.as_mut(),
+            Accum::Add,
+            matrix,
+            x.as_ref(),
+            -1.0,
+            Par::Seq,
+        );
+        factor.solve_in_place(self.residual.as_mut());
+        x += &self.residual;
+        self.stats.solves += x.ncols();
+    }
+}
+
+fn not_positive_definite() -> Error {
+    Error::Numerical("A is not numerically positive definite".to_string())
+}
+
+impl WorkingSetSolver for EliminatedSystem {
+    fn dim(&self) -> usize {
+        self.constrained.len()
+    }
+
+    fn solve(
+        &mut self,
+        active: &[usize],
+        bound: &[f64],
+        lambda: &mut [f64],
+        y: &mut [f64],
+        scale: &mut [f64],
+    ) -> Result<(), NotPositiveDefinite> {
+        lambda.fill(0.0);
+        let mut x = std::mem::take(&mut self.x);
+        if active.is_empty() {
+            x.copy_from_slice(&self.x_star);
+        } else {
+            if self.factored != active {
+                self.refactor(active)?;
+            }
+            // b_F − A_FE g_E on the free rows; A_jj g_j on the eliminated ones.
+            x.copy_from_slice(&self.b);
+            let a = self.a.as_ref();
+            for (&i, &g) in active.iter().zip(bound) {
+                let j = self.constrained[i];
+                for (r, &v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+                    x[r] -= v * g;
+                }
+            }
+            for &j in &self.always_fixed {
+                x[j] = 0.0;
+            }
+            for (&i, &g) in active.iter().zip(bound) {
+                let j = self.constrained[i];
+                x[j] = self.diagonal[j] * g;
+            }
+            self.solve_reduced(ColMut::from_slice_mut(&mut x).as_mat_mut());
+            for (&i, &g) in active.iter().zip(bound) {
+                x[self.constrained[i]] = g;
+            }
+            // λ_i = (A x − b)_{c_i}: A is symmetric, so row c_i is column c_i.
+            let a = self.a.as_ref();
+            for &i in active {
+                let j = self.constrained[i];
+                let ax: f64 = a
+                    .row_idx_of_col(j)
+                    .zip(a.val_of_col(j))
+                    .map(|(r, &v)| v * x[r])
+                    .sum();
+                lambda[i] = ax - self.b[j];
+                scale[i] = 1.0 / self.diagonal[j];
+            }
+        }
+        for (yi, &c) in y.iter_mut().zip(&self.constrained) {
+            *yi = x[c];
+        }
+        self.x = x;
+        Ok(())
+    }
+
+    /// Nothing more: every solve is already refined.
+    fn refine(&mut self, _active: &[usize], _bound: &[f64], _lambda: &mut [f64], _y: &mut [f64]) {}
+}

@@ -1,0 +1,238 @@
+//! The contact solve of a sparse backend in one object: the factor of A for the unconstrained
+//! step, the Delassus columns it yields within a memory budget, the primal elimination, and the
+//! rule that picks the subproblem of each step.
+//!
+//! [`SparseContact`] owns two [`EliminatedSystem`]s on the same A (one symbolic analysis): the
+//! first keeps A's factor and serves the unconstrained steps x* = A⁻¹b, the Delassus columns
+//! W e_j = B A⁻¹ Bᵀ e_j (in blocks, cached by a [`DelassusCache`]) and the final correction
+//! x = A⁻¹(b + Bᵀλ); the second factors working sets for the primal elimination. A step whose
+//! warm start has at most [`SparseContact::delassus_limit`] active indices (min(m/4, 1 000)) is
+//! solved on W, a larger one by elimination; so is a cold start (no warm start) whose
+//! unconstrained step leaves the box at more vertices whose columns are not cached yet than that
+//! limit (see docs/contact.md for the measurements behind
+//! the rule). Either way the answer is the QP's exact minimiser.
+
+use super::delassus::{ColumnSource, DelassusCache};
+use super::eliminated::EliminatedSystem;
+use super::{ActiveSetSolver, BoundState, PdasReport, PdasSettings};
+use crate::Error;
+use faer::sparse::SparseColMat;
+use faer::Mat;
+use std::sync::Arc;
+
+/// Largest active block solved on the Delassus operator (beyond it, or beyond a quarter of the
+/// constrained vertices, the primal elimination).
+pub const MAX_DELASSUS_BLOCK: usize = 1000;
+
+/// The largest warm-start set solved on the Delassus operator for m constrained vertices:
+/// min(m/4, [`MAX_DELASSUS_BLOCK`]). Measured on the FVS 60 × 30 plate: with 1 798 contacts the
+/// elimination is 5× faster than the Delassus path, with up to 60 the Delassus path is faster.
+pub fn delassus_limit(m: usize) -> usize {
+    (m / 4).min(MAX_DELASSUS_BLOCK)
+}
+
+/// The columns of W = B A⁻¹ Bᵀ by block solves with the factor of A.
+pub struct InverseColumns {
+    system: EliminatedSystem,
+    block: Mat<f64>,
+}
+
+impl ColumnSource for InverseColumns {
+    fn columns(&mut self, js: &[usize], out: &mut [f64]) {
+        let n = self.system.x().len();
+        let m = self.system.constrained().len();
+        self.block.resize_with(n, js.len(), |_, _| 0.0);
+        self.block.fill(0.0);
+        for (q, &j) in js.iter().enumerate() {
+            self.block[(self.system.constrained()[j], q)] = 1.0;
+        }
+        self.system
+            .solve_unconstrained_in_place(self.block.as_mut())
+            .expect("A was factored at construction and the factor is kept");
+        for (q, column) in out.chunks_mut(m).enumerate() {
+            for (o, &c) in column.iter_mut().zip(self.system.constrained()) {
+                *o = self.block[(c, q)];
+            }
+        }
+    }
+}
+
+/// Which subproblem solved a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Subproblem {
+    /// On the Delassus operator (few contacts).
+    Delassus,
+    /// By primal elimination (many contacts).
+    Eliminated,
+}
+
+/// The contact solve of a sparse backend (module docs).
+pub struct SparseContact {
+    delassus: DelassusCache<InverseColumns>,
+    eliminated: EliminatedSystem,
+    pdas: ActiveSetSolver,
+    limit: usize,
+    forced: Option<Subproblem>,
+    last: Subproblem,
+    y_star: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl SparseContact {
+    /// For A (n × n, SPD, both triangles), the dofs `fixed` held at zero and the `constrained`
+    /// dofs, with Delassus columns kept within `budget_bytes`. Runs one symbolic analysis and two
+    /// numeric factorisations of A.
+    pub fn new(
+        a: Arc<SparseColMat<usize, f64>>,
+        fixed: &[usize],
+        constrained: &[usize],
+        budget_bytes: usize,
+    ) -> Result<SparseContact, Error> {
+        let system = EliminatedSystem::new(a, fixed, constrained)?;
+        let eliminated = system.share()?;
+        let m = constrained.len();
+        let n = system.x().len();
+        Ok(SparseContact {
+            delassus: DelassusCache::new(
+                m,
+                budget_bytes,
+                InverseColumns {
+                    system,
+                    block: Mat::zeros(n, 0),
+                },
+            ),
+            eliminated,
+            pdas: ActiveSetSolver::new(),
+            limit: delassus_limit(m),
+            forced: None,
+            last: Subproblem::Delassus,
+            y_star: vec![0.0; m],
+            rhs: vec![0.0; n],
+        })
+    }
+
+    /// Always use `choice` instead of the rule (for comparisons).
+    pub fn force(&mut self, choice: Subproblem) {
+        self.forced = Some(choice);
+    }
+
+    /// The largest warm start, or number of uncached columns a cold start would need, solved on the
+    /// Delassus operator ([`delassus_limit`]).
+    pub fn delassus_limit(&self) -> usize {
+        self.limit
+    }
+
+    /// x = A⁻¹ b, the unconstrained step (x = 0 on the fixed dofs), with one step of iterative
+    /// refinement.
+    pub fn solve_unconstrained(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        self.delassus.source_mut().system.solve_unconstrained(b, x)
+    }
+
+    /// Solves the QP min ½ xᵀAx − bᵀx over lower ≤ x_c ≤ upper, from its unconstrained minimiser
+    /// `x_star` = A⁻¹b, warm-started from `states` (updated), into `x`. The result is the exact
+    /// minimiser when the report's status [is solved](super::PdasStatus::is_solved); else the
+    /// caller falls back (to clarabel).
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve(
+        &mut self,
+        b: &[f64],
+        x_star: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+        x: &mut [f64],
+    ) -> Result<PdasReport, Error> {
+        let constrained = self.eliminated.constrained();
+        for (y, &c) in self.y_star.iter_mut().zip(constrained) {
+            *y = x_star[c];
+        }
+        // Elimination when the warm start is large, or on a cold start when the columns that the
+        // values outside the box would need are mostly not cached yet.
+        let warm = states.iter().filter(|s| s.is_active()).count();
+        let missing = if warm == 0 {
+            (0..self.y_star.len())
+                .filter(|&i| self.y_star[i] < lower[i] || self.y_star[i] > upper[i])
+                .filter(|&i| !self.delassus.holds(i))
+                .count()
+        } else {
+            0
+        };
+        self.last = self.forced.unwrap_or(if warm.max(missing) <= self.limit {
+            Subproblem::Delassus
+        } else {
+            Subproblem::Eliminated
+        });
+        let report = match self.last {
+            Subproblem::Delassus => {
+                let report = self.pdas.solve(
+                    &mut self.delassus,
+                    &self.y_star,
+                    lower,
+                    upper,
+                    states,
+                    settings,
+                );
+                if report.status.is_solved() {
+                    self.rhs.copy_from_slice(b);
+                    for (&c, &l) in constrained.iter().zip(self.pdas.lambda()) {
+                        self.rhs[c] += l;
+                    }
+                    self.solve_unconstrained_into(x)?;
+                }
+                report
+            }
+            Subproblem::Eliminated => {
+                self.eliminated.set_step(b, x_star);
+                let report = self.pdas.solve_with(
+                    &mut self.eliminated,
+                    &self.y_star,
+                    lower,
+                    upper,
+                    states,
+                    settings,
+                );
+                if states.iter().any(|s| s.is_active()) {
+                    x.copy_from_slice(self.eliminated.x());
+                } else {
+                    x.copy_from_slice(x_star);
+                }
+                report
+            }
+        };
+        Ok(report)
+    }
+
+    /// x = A⁻¹ (self.rhs).
+    fn solve_unconstrained_into(&mut self, x: &mut [f64]) -> Result<(), Error> {
+        let rhs = std::mem::take(&mut self.rhs);
+        let result = self.solve_unconstrained(&rhs, x);
+        self.rhs = rhs;
+        result
+    }
+
+    /// λ of the last [`Self::solve`] (length m): A x = b + Bᵀλ.
+    pub fn lambda(&self) -> &[f64] {
+        self.pdas.lambda()
+    }
+
+    /// The subproblem of the last [`Self::solve`].
+    pub fn last_subproblem(&self) -> Subproblem {
+        self.last
+    }
+
+    /// The Delassus cache (its statistics).
+    pub fn delassus(&self) -> &DelassusCache<InverseColumns> {
+        &self.delassus
+    }
+
+    /// The primal elimination (its statistics).
+    pub fn eliminated(&self) -> &EliminatedSystem {
+        &self.eliminated
+    }
+
+    /// The active-set solver (its factor statistics).
+    pub fn active_set(&self) -> &ActiveSetSolver {
+        &self.pdas
+    }
+}
