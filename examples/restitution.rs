@@ -21,9 +21,9 @@
 //!
 //! `cargo run --release --example restitution -- --timing E1,E2,... <scene> [key=value ...]`
 //!
-//! instead times the scene's steps for each restitution E1, E2, … in one process (three runs each,
-//! the median per step), split into steps proven contact-free by the screening, steps checked free
-//! in full, and steps needing a QP; it prints one line per e.
+//! instead times the scene's steps for each restitution E1, E2, … in one process (five runs each,
+//! medians), split into steps proven contact-free by the screening, steps checked free in full,
+//! and steps needing a QP; it prints one line per e.
 
 use plate_impact::scene::Scene;
 use plate_impact::scheme::{StepPath, Stepper};
@@ -185,48 +185,56 @@ fn measure(options: &Options) -> Result<(), String> {
     Ok(())
 }
 
-/// Times the scene's steps for each restitution, three runs each, and prints one line per e.
+/// Times the scene's steps for each restitution, five runs each, and prints one line per e: the
+/// median over the runs of the time per step, and of the mean time of each kind of step.
 fn timing(scene: &Scene, restitutions: &[f64]) -> Result<(), String> {
+    const RUNS: usize = 5;
     let dt = scene.solver.time_step;
     let steps = (scene.stop_time / dt).round() as u64;
+    let median = |mut xs: Vec<f64>| {
+        xs.sort_by(f64::total_cmp);
+        xs[xs.len() / 2]
+    };
     for &e in restitutions {
         let mut s = scene.clone();
         s.set("solver.restitution", &e.to_string())
             .map_err(|e| e.to_string())?;
-        let mut per_step = Vec::new();
-        // Count and total time of: screened free, checked free, QP steps (first run).
-        let mut kinds = [(0u64, 0.0f64); 3];
-        for run in 0..3 {
+        // Per run: the time per step, and the count and total time of the steps screened free,
+        // checked free and needing a QP (the counts are the same in every run).
+        let mut runs = Vec::new();
+        for _ in 0..RUNS {
             let mut stepper = Stepper::new(&s, s.builtin_base(0.0)).map_err(|e| e.to_string())?;
+            let mut kinds = [(0u64, 0.0f64); 3];
             let clock = Instant::now();
             for n in 1..=steps {
                 let z = s.builtin_base(n as f64 * dt);
                 let t = Instant::now();
                 let report = stepper.step(z).map_err(|e| e.to_string())?;
-                if run == 0 {
-                    let kind = match (report.path, report.bounds_evaluated) {
-                        (StepPath::Unconstrained, false) => 0,
-                        (StepPath::Unconstrained, true) => 1,
-                        _ => 2,
-                    };
-                    kinds[kind].0 += 1;
-                    kinds[kind].1 += t.elapsed().as_secs_f64();
-                }
+                let kind = match (report.path, report.bounds_evaluated) {
+                    (StepPath::Unconstrained, false) => 0,
+                    (StepPath::Unconstrained, true) => 1,
+                    _ => 2,
+                };
+                kinds[kind].0 += 1;
+                kinds[kind].1 += t.elapsed().as_secs_f64();
             }
-            per_step.push(clock.elapsed().as_secs_f64() / steps as f64);
+            runs.push((clock.elapsed().as_secs_f64() / steps as f64, kinds));
         }
-        per_step.sort_by(f64::total_cmp);
-        let mean = |(count, time): (u64, f64)| 1e6 * time / count.max(1) as f64;
+        let per_step = median(runs.iter().map(|r| r.0).collect());
+        let kind = |k: usize| {
+            let count = runs[0].1[k].0;
+            let mean = median(
+                runs.iter()
+                    .map(|r| 1e6 * r.1[k].1 / count.max(1) as f64)
+                    .collect(),
+            );
+            (count, mean)
+        };
+        let [(screened, t0), (checked, t1), (qp, t2)] = [kind(0), kind(1), kind(2)];
         println!(
-            "e = {e}: {:.2} µs/step over {steps} steps (median of 3); screened free {} at {:.2} µs, \
-             checked free {} at {:.2} µs, QP {} at {:.2} µs",
-            1e6 * per_step[1],
-            kinds[0].0,
-            mean(kinds[0]),
-            kinds[1].0,
-            mean(kinds[1]),
-            kinds[2].0,
-            mean(kinds[2]),
+            "e = {e}: {:.2} µs/step over {steps} steps (median of {RUNS} runs); screened free \
+             {screened} at {t0:.2} µs, checked free {checked} at {t1:.2} µs, QP {qp} at {t2:.2} µs",
+            1e6 * per_step
         );
     }
     Ok(())

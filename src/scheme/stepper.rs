@@ -352,10 +352,16 @@ impl Stepper {
         } else {
             self.backend
                 .constrained_values(&self.levels.next, &mut self.prediction);
-            self.fill_bounds(base_next);
+            self.lower.fill(lower);
+            self.upper.fill(upper);
             let feasible = (0..m).all(|i| {
                 self.prediction[i] >= self.lower[i] && self.prediction[i] <= self.upper[i]
             });
+            // Newton's law changes only the bounds of vertices whose prediction crosses an
+            // obstacle: a step without any keeps the obstacles' bounds and costs nothing more.
+            if let (false, Law::Newton(e)) = (feasible, self.law) {
+                self.apply_newton_law(e, base_next);
+            }
             if feasible && auto {
                 (StepPath::Unconstrained, None)
             } else if !auto {
@@ -500,37 +506,27 @@ impl Stepper {
         ))
     }
 
-    /// Bounds on w_{n+1} at the constrained vertices, from the prediction in `self.prediction`:
-    /// g − z_{n+1} under the position law; under Newton's law [`newton_bounds`] with every
-    /// position measured from the base level z_{n+1} (u − z_{n+1}: the obstacles stay at rest in
-    /// that frame, so the velocities are those relative to the obstacles), which makes the test
-    /// of a crossing prediction the very test w* < g1 − z_{n+1} that decides whether a QP runs.
-    /// At the start step both stored levels are w_0 and both base values z_0 (released at rest,
-    /// v_0 = 0): no vertex approaches, and every law bounds u_1 by the obstacles.
-    fn fill_bounds(&mut self, base_next: f64) {
+    /// Newton's law with restitution e as the bounds on w_{n+1} at the constrained vertices, from
+    /// the prediction in `self.prediction`: [`newton_bounds`] with every position measured from the
+    /// base level z_{n+1} (u − z_{n+1}: the obstacles stay at rest in that frame, so the velocities
+    /// are those relative to the obstacles), which makes its test of a crossing prediction the very
+    /// test w* < g1 − z_{n+1} that decided this step needs a QP. At the start step both stored
+    /// levels are w_0 and both base values z_0 (released at rest, v_0 = 0): no vertex approaches,
+    /// and u_1 is bounded by the obstacles, as under the position law.
+    fn apply_newton_law(&mut self, e: f64, base_next: f64) {
         let lower = self.scene.lower_obstacle().map(|g| g - base_next);
         let upper = self.scene.upper_obstacle().map(|g| g - base_next);
-        match self.law {
-            Law::Position => {
-                self.lower.fill(lower.unwrap_or(f64::NEG_INFINITY));
-                self.upper.fill(upper.unwrap_or(f64::INFINITY));
-            }
-            Law::Newton(e) => {
-                let [z_prev, z_curr] = self.base.map(|z| z - base_next);
-                let (previous, current) = self.history.values(
-                    &*self.backend,
-                    &self.levels.previous,
-                    &self.levels.current,
-                );
-                for i in 0..self.prediction.len() {
-                    let motion = VertexMotion {
-                        previous: z_prev + previous[i],
-                        current: z_curr + current[i],
-                        predicted: self.prediction[i],
-                    };
-                    [self.lower[i], self.upper[i]] = newton_bounds(e, lower, upper, motion);
-                }
-            }
+        let [z_prev, z_curr] = self.base.map(|z| z - base_next);
+        let (previous, current) =
+            self.history
+                .values(&*self.backend, &self.levels.previous, &self.levels.current);
+        for i in 0..self.prediction.len() {
+            let motion = VertexMotion {
+                previous: z_prev + previous[i],
+                current: z_curr + current[i],
+                predicted: self.prediction[i],
+            };
+            [self.lower[i], self.upper[i]] = newton_bounds(e, lower, upper, motion);
         }
     }
 
