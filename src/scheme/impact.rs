@@ -164,6 +164,9 @@ mod tests {
 
     const G1: f64 = -0.01;
     const G2: f64 = 0.01;
+    /// Rounding of r = u_n + e (u_{n−1} − u_n) from values near 0.01 m: a difference and a sum, each
+    /// rounded to half an ulp (1.7e-18 m at 0.01 m), with room to spare.
+    const ROUNDING: f64 = 4e-18;
 
     fn bounds(e: f64, previous: f64, current: f64, predicted: f64) -> [f64; 2] {
         newton_bounds(
@@ -183,15 +186,15 @@ mod tests {
         // Arriving at −1 mm per step, 0.5 mm above g1, predicted 0.5 mm below it.
         let [lo, hi] = bounds(0.5, -0.0085, -0.0095, -0.0105);
         // r = u_n − e (u_n − u_{n−1}) = −0.0095 + 0.5·0.001: leaves at half the speed.
-        assert!((lo - -0.009).abs() <= 1e-18, "{lo}");
+        assert!((lo - -0.009).abs() <= ROUNDING, "{lo}");
         assert_eq!(hi, G2);
-        // e = 1: back to u_{n−1} (to one rounding of u_n + (u_{n−1} − u_n)); e = 0: stops at u_n.
-        assert!((bounds(1.0, -0.0085, -0.0095, -0.0105)[0] - -0.0085).abs() <= 2e-18);
+        // e = 1: back to u_{n−1} (to the rounding of u_n + (u_{n−1} − u_n)); e = 0: stops at u_n.
+        assert!((bounds(1.0, -0.0085, -0.0095, -0.0105)[0] - -0.0085).abs() <= ROUNDING);
         assert_eq!(bounds(0.0, -0.0085, -0.0095, -0.0105)[0], -0.0095);
         // Mirrored at the upper obstacle.
         let [lo, hi] = bounds(0.5, 0.0085, 0.0095, 0.0105);
         assert_eq!(lo, G1);
-        assert!((hi - 0.009).abs() <= 1e-18, "{hi}");
+        assert!((hi - 0.009).abs() <= ROUNDING, "{hi}");
     }
 
     #[test]
@@ -229,10 +232,10 @@ mod tests {
                         let [lo, hi] = bounds(e, previous, current, predicted);
                         assert!(G1 <= lo && lo <= hi && hi <= G2);
                         if lo > G1 {
-                            assert!(current <= lo && lo <= previous + 1e-18);
+                            assert!(current <= lo && lo <= previous + ROUNDING);
                         }
                         if hi < G2 {
-                            assert!(previous - 1e-18 <= hi && hi <= current);
+                            assert!(previous - ROUNDING <= hi && hi <= current);
                         }
                     }
                 }
