@@ -54,6 +54,20 @@ def run(workdir, restitution, time_step=1e-4, law="auto", csv=True):
     return summary, {name: data[name] for name in data.dtype.names}
 
 
+def finish_axes(ax, xlabel, ylabel, title, columns=1, **grid):
+    """Labels, title, grid and legend (in `columns` columns) of one plot."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3, **grid)
+    ax.legend(fontsize=8, ncol=columns)
+
+
+def save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=str(ROOT / "docs" / "restitution"))
@@ -83,11 +97,8 @@ def main():
         ax.plot(r["t"][1:], r["energy_total"][1:], color=colour, lw=1.2, label=label)
     ax.plot(newton_zero[1]["t"][1:], newton_zero[1]["energy_total"][1:], color="0.5", lw=1.0,
             ls="--", label="e = 0, Newton's law")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("discrete energy $E_{n+1/2}$ (J)")
-    ax.set_title("energy scene, Δt = 1e-4 s: Newton's law")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, ncol=2)
+    finish_axes(ax, "t (s)", "discrete energy $E_{n+1/2}$ (J)", "energy scene, Δt = 1e-4 s: Newton's law",
+                columns=2)
     shown = [e for e in RESTITUTIONS if e in FORMER_KEPT]
     x = np.arange(len(shown))
     kept = [runs[e][0]["energy_last"] / runs[e][0]["energy_first"] for e in shown]
@@ -96,14 +107,9 @@ def main():
              label="former position-level law")
     bars.axhline(1.0, color="k", lw=0.8, ls=":")
     bars.set_xticks(x, [f"{e}" for e in shown])
-    bars.set_xlabel("restitution e")
-    bars.set_ylabel("E at 1 s / E at the first step")
     bars.set_yscale("log")
-    bars.set_title("energy kept over 1 s")
-    bars.grid(alpha=0.3, axis="y")
-    bars.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "energy.png", dpi=130)
+    finish_axes(bars, "restitution e", "E at 1 s / E at the first step", "energy kept over 1 s", axis="y")
+    save(fig, out / "energy.png")
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for e, colour in [(0.0, colours[0]), (0.5, colours[2]), (1.0, colours[-1])]:
@@ -111,13 +117,9 @@ def main():
         window = r["t"] <= CORNER_WINDOW
         ax.plot(r["t"][window], r["corner1"][window] * 1e3, color=colour, lw=1.2, label=f"e = {e}")
     ax.axhline(-10.0, color="k", lw=1.0, ls=":", label="lower obstacle g1")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("free corner u(Lx, 0) (mm)")
-    ax.set_title(f"energy scene, Δt = 1e-4 s: the corner over the first {CORNER_WINDOW} s")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "corner.png", dpi=130)
+    finish_axes(ax, "t (s)", "free corner u(Lx, 0) (mm)",
+          f"energy scene, Δt = 1e-4 s: the corner over the first {CORNER_WINDOW} s")
+    save(fig, out / "corner.png")
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for e, colour in [(0.5, colours[2]), (1.0, colours[-1])]:
@@ -130,13 +132,9 @@ def main():
               label="former law, e = 1: deepest below g1")
     ax.loglog(TIME_STEPS, [0.02] * len(TIME_STEPS), color="0.6", lw=0.8, ls="-.",
               label="2 % of the gap (the penetration target)")
-    ax.set_xlabel("Δt (s)")
-    ax.set_ylabel("distance from g1 / gap")
-    ax.set_title("energy scene, 1 s: where contacts turn, against Δt")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "penetration.png", dpi=130)
+    finish_axes(ax, "Δt (s)", "distance from g1 / gap", "energy scene, 1 s: where contacts turn, against Δt",
+          which="both")
+    save(fig, out / "penetration.png")
     print(f"wrote {out / 'energy.png'}, {out / 'corner.png'} and {out / 'penetration.png'}")
 
 
