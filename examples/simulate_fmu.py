@@ -36,7 +36,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
            "energy.kinetic", "energy.elastic", "energy.total", "contact.active_nodes", "contact.force"]
 # Scene fields that are settings of the Rust examples, not FMU variables.
-NOT_FMU = {"stop_time", "solver.qp", "solver.linear"}
+NOT_FMU = {"stop_time", "solver.qp", "solver.linear", "solver.impact_law"}
 ELEMENT = {"argyris": 1, "fvs": 2}
 # The animation: scene, start (s), forcing periods shown, internal steps per frame (0.6 ms at the
 # scene's Δt = 0.1 ms: an impact, about 1.8 ms long, spans three frames).

@@ -68,14 +68,29 @@ pub enum LinearChoice {
     Sparse,
 }
 
+/// Which impact law the obstacles impose (docs/scheme.md, "Restitution").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ImpactLaw {
+    /// The paper's position law for e = 0 (the bound g on u_{n+1}), Newton's law on the
+    /// half-step velocities for e > 0.
+    Auto,
+    /// Newton's law for every e, e = 0 included: to compare it with the paper's scheme.
+    Newton,
+}
+
 /// Time-stepping settings.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Solver {
     /// Δt (s), default 1e-4.
     pub time_step: f64,
-    /// Restitution coefficient e ∈ [0, 1] of the Paoli–Schatzman scheme, default 0 (the paper).
+    /// Restitution coefficient e ∈ [0, 1] of Newton's impact law, default 0 (the paper's scheme):
+    /// a vertex whose contact closes in a step leaves with −e times its arriving velocity.
     pub restitution: f64,
+    /// Impact law, default `auto` (a library setting, not an FMU variable).
+    #[serde(default = "default_impact_law")]
+    pub impact_law: ImpactLaw,
     /// Contact QP solver, default `auto`.
     #[serde(default = "default_qp")]
     pub qp: QpChoice,
@@ -84,6 +99,9 @@ pub struct Solver {
     pub linear: LinearChoice,
 }
 
+fn default_impact_law() -> ImpactLaw {
+    ImpactLaw::Auto
+}
 fn default_qp() -> QpChoice {
     QpChoice::Auto
 }
@@ -211,6 +229,7 @@ impl Default for Scene {
             solver: Solver {
                 time_step: 1e-4,
                 restitution: 0.0,
+                impact_law: ImpactLaw::Auto,
                 qp: QpChoice::Auto,
                 linear: LinearChoice::Auto,
             },
@@ -496,7 +515,9 @@ mod tests {
         s.set("mesh.element", "fvs").unwrap();
         s.set("mesh.nx", "14").unwrap();
         s.set("solver.qp", "clarabel").unwrap();
+        s.set("solver.impact_law", "newton").unwrap();
         assert_eq!(s.mesh.element, ElementKind::Fvs);
+        assert_eq!(s.solver.impact_law, ImpactLaw::Newton);
         assert_eq!(s.mesh.nx, 14);
         assert_eq!(s.solver.qp, QpChoice::Clarabel);
         let err = s.set("material.poisson_ratio", "0.5").unwrap_err();

@@ -12,10 +12,10 @@
 //! which is the scheme for u exactly (up to the round-off of K𝟙), and the start step, undamped
 //! because v_0 = 0, A₀ w_1 = M w_0 + ¼Δt²(p_1 + p_0) f − m₁ (z_1 − z_0) + Bᵀμ with
 //! A₀ = M_ff + ½Δt²K_ff (F̄_0 read as (F_1 + F_0)/2). The obstacle bounds on u become g − z_{n+1}
-//! on w; with restitution e they are imposed on (u_{n+1} + e u_{n−1})/(1 + e), i.e. on
-//! u_{n+1} ∈ [(1+e)g1 − e u_{n−1}, (1+e)g2 − e u_{n−1}] (Paoli–Schatzman), still a box. μ is the
-//! QP multiplier: the contact force at a vertex is μ/Δt² (N), 2μ/Δt² after the start step (its
-//! equation is scaled by Δt²/2).
+//! on w; with restitution e > 0, Newton's impact law raises the lower bound of a vertex whose
+//! contact closes in the step to u_n − e(u_n − u_{n−1}) (mirrored at the upper obstacle), still a
+//! box ([`newton_bounds`], `impact.rs`). μ is the QP multiplier: the contact force at a vertex is
+//! μ/Δt² (N), 2μ/Δt² after the start step (its equation is scaled by Δt²/2).
 //!
 //! Layout: [`Stepper`] (`stepper.rs`) owns the three time levels and runs the scheme; the linear
 //! part runs behind the narrow [`LinearBackend`] trait (`backend.rs`) in one of two backends,
@@ -28,6 +28,7 @@ mod auto;
 mod backend;
 mod energy;
 mod free_system;
+mod impact;
 pub mod modal;
 mod outputs;
 mod preload;
@@ -40,6 +41,7 @@ mod vectors;
 pub use auto::MODAL_AUTO_LIMIT;
 pub use backend::{EnergyPieces, LinearBackend, StepForcing};
 pub use free_system::FreeSystem;
+pub use impact::{newton_bounds, VertexMotion};
 pub use outputs::Outputs;
 pub use state::State;
 pub use state::MAX_STEP_INDEX;

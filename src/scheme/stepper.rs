@@ -4,6 +4,7 @@
 use super::auto;
 use super::backend::{BackendDelassus, LinearBackend, StepForcing};
 use super::energy::DiscreteEnergy;
+use super::impact::{newton_bounds, Law, VertexHistory, VertexMotion};
 use super::outputs::Outputs;
 use super::preload::static_preload;
 use super::reference::solve_reference;
@@ -102,10 +103,10 @@ pub struct Stepper {
     step_index: u64,
     base: [f64; 2],
     pressure: [f64; 2],
-    /// Constrained values of w_{n−1}, kept only when restitution e > 0 needs them for the bounds.
-    restitution_previous: Vec<f64>,
-    /// Constrained values of w_n, likewise.
-    restitution_current: Vec<f64>,
+    /// The impact law of the steps.
+    law: Law,
+    /// w_{n−1} and w_n at the constrained vertices, for Newton's law.
+    history: VertexHistory,
     /// The contact state of each constrained vertex: the active-set warm start.
     states: Vec<BoundState>,
     active_set: ActiveSetSolver,
@@ -151,10 +152,6 @@ impl Stepper {
         let mut field = vec![0.0; backend.dimension()];
         backend.field_of_free_dofs(&preload.displacement, &mut field);
         let m = free.constrained.len();
-        // The constrained values of w_0 as the backend evaluates them, so that a state restored
-        // at n = 0 or 1 continues bit-identically (restore evaluates them the same way).
-        let mut constrained_w0 = vec![0.0; m];
-        backend.constrained_values(&field, &mut constrained_w0);
         Ok(Stepper {
             scene: scene.clone(),
             current_norm_squared: backend.norm_squared(&field),
@@ -165,8 +162,8 @@ impl Stepper {
             step_index: 0,
             base: [initial_base; 2],
             pressure: [scene.load.pressure; 2],
-            restitution_previous: constrained_w0.clone(),
-            restitution_current: constrained_w0,
+            law: Law::of(&scene.solver),
+            history: VertexHistory::new(m),
             states: preload.states,
             active_set: ActiveSetSolver::new(),
             active_set_settings: PdasSettings::default(),
@@ -251,10 +248,7 @@ impl Stepper {
         let tolerance = 1e-12 * (upper - lower).abs().min(1.0);
         let [previous, current] =
             self.level_displacements(&self.levels.previous, &self.levels.current, self.base);
-        // Today's level always; the previous one where the scheme bounds it (as restore does).
-        let [previous_bounded, _] = bounded_levels(self.scene.solver.restitution, self.step_index);
-        let levels = std::iter::once(&current).chain(previous_bounded.then_some(&previous));
-        for u in levels {
+        for u in [&current, &previous] {
             if let Some(outside) = first_outside(&scene, u, tolerance) {
                 let (name, value, relation) = match outside.obstacle {
                     Obstacle::Lower => ("obstacle.lower", lower, "above"),
@@ -336,7 +330,6 @@ impl Stepper {
             return Err(self.overflow("the unconstrained displacement", t_next, base_next));
         }
         let m = self.prediction.len();
-        let e = self.scene.solver.restitution;
         let auto = self.scene.solver.qp == QpChoice::Auto;
         let lower = self
             .scene
@@ -346,9 +339,10 @@ impl Stepper {
             .scene
             .upper_obstacle()
             .map_or(f64::INFINITY, |g| g - base_next);
+        // A prediction within the obstacles closes no contact, so it satisfies the bounds of
+        // either impact law.
         let proven = m == 0
             || (auto
-                && e == 0.0
                 && self
                     .backend
                     .prediction_proven_within(&self.levels.next, lower, upper));
@@ -358,10 +352,16 @@ impl Stepper {
         } else {
             self.backend
                 .constrained_values(&self.levels.next, &mut self.prediction);
-            self.fill_bounds(base_next, if start { z_curr } else { z_prev });
+            self.lower.fill(lower);
+            self.upper.fill(upper);
             let feasible = (0..m).all(|i| {
                 self.prediction[i] >= self.lower[i] && self.prediction[i] <= self.upper[i]
             });
+            // Newton's law changes only the bounds of vertices whose prediction crosses an
+            // obstacle: a step without any keeps the obstacles' bounds and costs nothing more.
+            if let (false, Law::Newton(e)) = (feasible, self.law) {
+                self.apply_newton_law(e, base_next);
+            }
             if feasible && auto {
                 (StepPath::Unconstrained, None)
             } else if !auto {
@@ -448,13 +448,10 @@ impl Stepper {
                 0
             }
         };
-        if e != 0.0 {
-            std::mem::swap(
-                &mut self.restitution_previous,
-                &mut self.restitution_current,
-            );
-            self.backend
-                .constrained_values(&self.levels.next, &mut self.restitution_current);
+        if let Law::Newton(_) = self.law {
+            // An evaluated prediction that the step accepted unchanged is w_{n+1} at the vertices.
+            let known = !proven && path == StepPath::Unconstrained;
+            self.history.advance(known.then_some(&self.prediction[..]));
         }
         self.levels.accept();
         self.current_norm_squared = norm_squared;
@@ -509,29 +506,27 @@ impl Stepper {
         ))
     }
 
-    /// Bounds on w_{n+1} at the constrained vertices: [(1+e)g1 − e u_{n−1} − z_{n+1}, …] with
-    /// u_{n−1} = z_{n−1} + w_{n−1} (e = 0: exactly g − z_{n+1}). At the start step
-    /// u_{−1} := u_1 − 2Δt v_0 = u_1 (v_0 = 0, docs/scheme.md), so the constraint is on u_1 itself:
-    /// e = 0.
-    fn fill_bounds(&mut self, base_next: f64, base_previous: f64) {
-        let e = if self.step_index == 0 {
-            0.0
-        } else {
-            self.scene.solver.restitution
-        };
-        let lower = self.scene.lower_obstacle();
-        let upper = self.scene.upper_obstacle();
+    /// Newton's law with restitution e as the bounds on w_{n+1} at the constrained vertices, from
+    /// the prediction in `self.prediction`: [`newton_bounds`] with every position measured from the
+    /// base level z_{n+1} (u − z_{n+1}: the obstacles stay at rest in that frame, so the velocities
+    /// are those relative to the obstacles), which makes its test of a crossing prediction the very
+    /// test w* < g1 − z_{n+1} that decided this step needs a QP. At the start step both stored
+    /// levels are w_0 and both base values z_0 (released at rest, v_0 = 0): no vertex approaches,
+    /// and u_1 is bounded by the obstacles, as under the position law.
+    fn apply_newton_law(&mut self, e: f64, base_next: f64) {
+        let lower = self.scene.lower_obstacle().map(|g| g - base_next);
+        let upper = self.scene.upper_obstacle().map(|g| g - base_next);
+        let [z_prev, z_curr] = self.base.map(|z| z - base_next);
+        let (previous, current) =
+            self.history
+                .values(&*self.backend, &self.levels.previous, &self.levels.current);
         for i in 0..self.prediction.len() {
-            let u_prev = base_previous + self.restitution_previous[i];
-            let shift = |g: f64| {
-                if e == 0.0 {
-                    g - base_next
-                } else {
-                    (1.0 + e) * g - e * u_prev - base_next
-                }
+            let motion = VertexMotion {
+                previous: z_prev + previous[i],
+                current: z_curr + current[i],
+                predicted: self.prediction[i],
             };
-            self.lower[i] = lower.map_or(f64::NEG_INFINITY, shift);
-            self.upper[i] = upper.map_or(f64::INFINITY, shift);
+            [self.lower[i], self.upper[i]] = newton_bounds(e, lower, upper, motion);
         }
     }
 
@@ -654,9 +649,8 @@ impl Stepper {
     /// dimensions match, every number is finite, its contact codes are in range and its contact
     /// forces have their signs ([`State`] and [`RESTORE_FORCE_TOLERANCE`]), both base values lie
     /// strictly inside the gap, every constrained vertex of both levels lies within the obstacles
-    /// to [`RESTORE_BOUND_TOLERANCE`] of the gap, and its energies and outputs are finite. With restitution e > 0 the scheme
-    /// bounds (u_{k+1} + e u_{k−1})/(1 + e) rather than u_{k+1}, so only the levels k ≤ 1 (bounded
-    /// by the start step and the preload) can be checked. Nothing changes unless all of it holds.
+    /// to [`RESTORE_BOUND_TOLERANCE`] of the gap (every impact law keeps every level within
+    /// them), and its energies and outputs are finite. Nothing changes unless all of it holds.
     pub fn restore(&mut self, state: &State) -> Result<(), Error> {
         let mut fixed = state.scene.clone();
         fixed.obstacle.lower = self.scene.obstacle.lower;
@@ -708,14 +702,9 @@ impl Stepper {
             })?;
         }
         let displacements = self.level_displacements(&state.previous, &state.current, state.base);
-        let bounded = bounded_levels(state.scene.solver.restitution, state.step_index);
         let tolerance = RESTORE_BOUND_TOLERANCE * gap(&state.scene);
-        for ((field, u), bounded) in ["previous", "current"]
-            .iter()
-            .zip(&displacements)
-            .zip(bounded)
-        {
-            if let Some(outside) = first_outside(&state.scene, u, tolerance).filter(|_| bounded) {
+        for (field, u) in ["previous", "current"].iter().zip(&displacements) {
+            if let Some(outside) = first_outside(&state.scene, u, tolerance) {
                 return Err(Error::invalid_state(
                     &format!("{field}[vertex {}]", outside.vertex),
                     format!("<u = {:?} m>", outside.value),
@@ -753,10 +742,7 @@ impl Stepper {
         self.step_index = state.step_index;
         self.base = state.base;
         self.pressure = state.pressure;
-        self.backend
-            .constrained_values(&self.levels.previous, &mut self.restitution_previous);
-        self.backend
-            .constrained_values(&self.levels.current, &mut self.restitution_current);
+        self.history.forget();
         self.states = states;
         self.forces.copy_from_slice(&state.forces);
         Ok(())
@@ -779,17 +765,6 @@ impl Stepper {
         let dt = scene.solver.time_step;
         RESTORE_FORCE_TOLERANCE * largest_diagonal * gap(scene) / (dt * dt)
     }
-}
-
-/// Which of the stored levels (u_{n−1}, u_n) the scheme keeps within the obstacles: both for
-/// e = 0; for e > 0 the bound is on (u_{k+1} + e u_{k−1})/(1 + e), so only u_0 (the preload) and
-/// u_1 (the start step, which bounds u_1 itself).
-fn bounded_levels(restitution: f64, step_index: u64) -> [bool; 2] {
-    let bounded = |level: Option<u64>| restitution == 0.0 || level.is_none_or(|k| k <= 1);
-    [
-        bounded(step_index.checked_sub(1)),
-        bounded(Some(step_index)),
-    ]
 }
 
 /// The distance between the obstacles, or to the one obstacle; 1 m without any.

@@ -55,7 +55,7 @@ def scene_start_values(name):
             continue  # stop_time: the experiment's stop time, not a variable
         for key, value in fields.items():
             path = f"{group}.{key}"
-            if path in ("solver.qp", "solver.linear"):
+            if path in ("solver.qp", "solver.linear", "solver.impact_law"):
                 continue  # library settings, not FMU variables
             if path == "mesh.element":
                 value = {"argyris": 1, "fvs": 2}[value]
