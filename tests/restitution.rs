@@ -352,7 +352,7 @@ fn run(scene: &Scene, steps: usize) -> Run {
         }
         let energy = stepper.outputs().energy_total;
         if n > 0 {
-            let change = energy - out.energies.last().unwrap() + report.damping_loss;
+            let change = energy - out.energies.last().unwrap() + report.flows.damping_loss;
             out.identity = out.identity.max((change - half_work).abs());
         }
         out.energies.push(energy);

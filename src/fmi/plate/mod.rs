@@ -454,7 +454,10 @@ mod tests {
             warning: Some(
                 "the active-set method did not converge; clarabel solved the step".into(),
             ),
-            damping_loss: 0.0,
+            base_force: 0.0,
+            contact_force: 0.0,
+            impact: false,
+            flows: Default::default(),
         };
         let step = InternalStep {
             time: 0.25,
