@@ -88,12 +88,13 @@ def test_base_leaving_the_gap(new_plate):
     p.initialize().step(1e-3)
 
 
-def test_communication_step_must_be_a_multiple_of_the_internal_step(new_plate):
+def test_bad_communication_steps(new_plate):
     p = new_plate().initialize()
-    expect_error(p, lambda: p.fmu.doStep(0.0, 1.5e-4), "0.00015", "0.0001")
     expect_error(p, lambda: p.fmu.doStep(0.0, -1e-3), "communicationStepSize")
+    expect_error(p, lambda: p.fmu.doStep(0.0, math.nan), "communicationStepSize")
     expect_error(p, lambda: p.fmu.doStep(0.5, 1e-3), "currentCommunicationPoint")
-    p.fmu.doStep(0.0, 3e-4)  # a whole multiple is fine
+    p.fmu.doStep(0.0, 1.5e-4)  # any finite h > 0 is fine
+    expect_error(p, lambda: p.fmu.doStep(0.0, 1e-3), "currentCommunicationPoint", "0.00015")
 
 
 def test_calls_in_the_wrong_state(new_plate):

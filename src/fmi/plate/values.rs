@@ -6,7 +6,7 @@ use crate::element::ElementKind;
 use crate::error::Error;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{vr, Kind, Variable};
+use crate::fmi::variables::{vr, Causality, Kind, Variable, VARIABLES};
 use crate::scene::Scene;
 use crate::simulation::{Outputs, BOUND_TOLERANCE};
 
@@ -128,19 +128,15 @@ pub fn output(outputs: &Outputs, v: &Variable) -> Result<Value, Failure> {
     })
 }
 
-/// The first output of `outputs` that is not finite, as (variable name, value).
+/// The first Real output of `outputs` that is not finite, as (variable name, value).
 pub fn first_non_finite(outputs: &Outputs) -> Option<(&'static str, f64)> {
-    [
-        ("corner1.displacement", outputs.corner1),
-        ("corner2.displacement", outputs.corner2),
-        ("edge_mid.displacement", outputs.edge_mid),
-        ("energy.kinetic", outputs.energy_kinetic),
-        ("energy.elastic", outputs.energy_elastic),
-        ("energy.total", outputs.energy_total),
-        ("contact.force", outputs.contact_force),
-    ]
-    .into_iter()
-    .find(|(_, x)| !x.is_finite())
+    VARIABLES
+        .iter()
+        .filter(|v| v.causality == Causality::Output)
+        .find_map(|v| match output(outputs, v) {
+            Ok(Value::Real(x)) if !x.is_finite() => Some((v.name, x)),
+            _ => None,
+        })
 }
 
 /// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
@@ -167,7 +163,7 @@ pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fmi::variables::{by_name, Causality, Start, VARIABLES};
+    use crate::fmi::variables::{by_name, Start};
 
     /// The description's start values are the scene defaults: the two cannot drift.
     #[test]
