@@ -38,6 +38,8 @@ def test_non_finite_parameters(new_plate, name, value):
         ("mesh.nx", 0),
         ("mesh.ny", 100000),
         ("mesh.element", 3),
+        ("damping.mass_proportional", -1.0),
+        ("damping.stiffness_proportional", -1e-9),
         ("obstacle.lower", 0.01),
         ("obstacle.upper", -0.01),
         ("base.amplitude", -0.001),

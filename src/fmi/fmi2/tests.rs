@@ -690,6 +690,54 @@ fn a_stop_time_off_the_grid_is_reached() {
     inst.set_state(&state).unwrap();
 }
 
+/// The Rayleigh damping parameters reach the scheme: the FMU's run equals the library's for the
+/// same damped scene, bit for bit, and differs from the undamped one; a negative value is refused
+/// by name.
+#[test]
+fn damping_parameters_reach_the_scheme() {
+    use crate::scene::Scene;
+    use crate::simulation::{input::InputSample, Simulation};
+    let (mut inst, _) = small();
+    let err = inst
+        .set_real(&[vr::DAMPING_MASS_PROPORTIONAL], &[-1.0])
+        .unwrap_err();
+    assert!(
+        err.message.contains("damping.mass_proportional"),
+        "{}",
+        err.message
+    );
+    inst.set_real(
+        &[
+            vr::DAMPING_MASS_PROPORTIONAL,
+            vr::DAMPING_STIFFNESS_PROPORTIONAL,
+            vr::BASE_AMPLITUDE,
+        ],
+        &[6.0, 2e-5, 0.005],
+    )
+    .unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    let mut scene = Scene::default();
+    scene.mesh.nx = 3;
+    scene.mesh.ny = 2;
+    scene.base.amplitude = 0.005;
+    let mut undamped = Simulation::new(&scene, 0.0, 0.0).unwrap();
+    scene.damping.mass_proportional = 6.0;
+    scene.damping.stiffness_proportional = 2e-5;
+    let mut library = Simulation::new(&scene, 0.0, 0.0).unwrap();
+    for _ in 0..50 {
+        inst.do_step(inst.time(), 1e-3).unwrap();
+        for sim in [&mut library, &mut undamped] {
+            let end = sim.step_end(1e-3).unwrap();
+            sim.advance(&end, &InputSample::default(), &mut |_| {})
+                .unwrap();
+        }
+    }
+    let corner = real(&mut inst, vr::CORNER1_DISPLACEMENT);
+    assert_eq!(corner.to_bits(), library.outputs().corner1.to_bits());
+    assert_ne!(corner, undamped.outputs().corner1);
+}
+
 /// fmpy asks for the size, then for the bytes: the state is encoded once.
 #[test]
 fn a_state_is_encoded_once_per_save() {

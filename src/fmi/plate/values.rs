@@ -183,7 +183,7 @@ mod tests {
             };
             assert_eq!(parameter(&scene, v).unwrap(), expected, "{}", v.name);
         }
-        assert_eq!(parameters, 19, "docs/fmu.md lists 19 parameters");
+        assert_eq!(parameters, 21, "docs/fmu.md lists 21 parameters");
     }
 
     /// Every output variable has a binding, and the finiteness guard covers every Real output.
