@@ -125,7 +125,7 @@ fn the_start_step_is_not_damped() {
         let mut damped = Stepper::new(&s, 0.0).unwrap();
         let report = damped.step(0.0).unwrap();
         undamped.step(0.0).unwrap();
-        assert_eq!(report.damping_loss, 0.0);
+        assert_eq!(report.flows.damping_loss, 0.0);
         let (a, b) = (damped.state(), undamped.state());
         let same = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
         assert!(
@@ -170,12 +170,12 @@ fn the_energy_falls_by_the_damping_loss() {
             for _ in 0..3000 {
                 let report = stepper.step(0.0).unwrap();
                 let next = stepper.outputs().energy_total;
-                assert!(report.damping_loss >= 0.0);
-                removed += report.damping_loss;
+                assert!(report.flows.damping_loss >= 0.0);
+                removed += report.flows.damping_loss;
                 worst_rise = worst_rise.max(next - energy);
                 if report.active == 0 && stepper.contact_forces().iter().all(|&f| f == 0.0) {
                     worst_identity =
-                        worst_identity.max((next - energy + report.damping_loss).abs());
+                        worst_identity.max((next - energy + report.flows.damping_loss).abs());
                 } else {
                     contact_steps += 1;
                 }
@@ -216,7 +216,7 @@ fn damped_backends_agree() {
         let z = s.builtin_base(n as f64 * s.solver.time_step);
         let a = modal.step(z).unwrap();
         let b = sparse.step(z).unwrap();
-        loss_difference = loss_difference.max((a.damping_loss - b.damping_loss).abs());
+        loss_difference = loss_difference.max((a.flows.damping_loss - b.flows.damping_loss).abs());
         let diff = common::largest_vertex_difference(&modal, &sparse);
         worst = worst.max(diff);
     }

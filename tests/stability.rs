@@ -90,6 +90,11 @@ fn run(scene: &Scene, steps: usize, extra: impl Fn(f64) -> f64) -> Result<Measur
             o.energy_elastic,
             o.energy_total,
             o.contact_force,
+            o.base_force,
+            o.base_work,
+            o.load_work,
+            o.contact_loss,
+            o.damping_loss,
         ];
         assert!(
             values.iter().all(|v| v.is_finite()),

@@ -35,6 +35,16 @@ pub struct EnergyPieces {
     pub load_previous: f64,
 }
 
+/// Two sums over a field that every step needs, formed in one pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FieldSums {
+    /// ‖x‖², the squared Euclidean norm in the backend's coordinates: finite exactly when every
+    /// entry is finite and none is beyond ~1e154.
+    pub norm_squared: f64,
+    /// m₁ᵀw = 𝟙ᵀM w, the mass-weighted sum of the relative displacement (kg·m).
+    pub translation: f64,
+}
+
 /// The linear part of the scheme in one set of coordinates (see the module docs). A field is a
 /// slice of length [`LinearBackend::dimension`]; "the constrained values" of a field are the
 /// relative displacements w at the obstacle-constrained vertices, in their order.
@@ -46,17 +56,23 @@ pub trait LinearBackend: Send {
     /// [`FreeSystem::right_hand_side`](super::FreeSystem::right_hand_side); for the start step
     /// (`forcing.start`) A is the undamped A₀, and so is the system that
     /// [`LinearBackend::delassus_column`] and [`LinearBackend::correct`] then use. Returns the
-    /// squared norm ‖x‖² of the prediction (as [`LinearBackend::norm_squared`]), from a pass the backend
-    /// makes anyway: it is finite exactly when every entry is and none is beyond ~1e154.
+    /// prediction's [`FieldSums`] from passes the backend makes anyway: the translation bit for
+    /// bit as [`LinearBackend::field_sums`] gives it, the norm to round-off.
     fn predict(
         &mut self,
         previous: &[f64],
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    ) -> f64;
-    /// The squared Euclidean norm ‖x‖² of a field in the backend's coordinates.
-    fn norm_squared(&self, field: &[f64]) -> f64;
+    ) -> FieldSums;
+    /// The [`FieldSums`] of a field.
+    fn field_sums(&self, field: &[f64]) -> FieldSums;
+    /// fᵀw, the work-conjugate of a 1 Pa pressure (m³).
+    fn load_projection(&self, field: &[f64]) -> f64;
+    /// μᵀB(x − y) for the QP multipliers μ of the step just solved, whose solution is `next` = x
+    /// (y = `previous`). A backend may use (and use up) what its last [`LinearBackend::correct`]
+    /// left, so call it at most once, right after the step's solve.
+    fn multiplier_work(&mut self, next: &[f64], previous: &[f64], multipliers: &[f64]) -> f64;
     /// A constant c ≥ 1 such that, for fields x, y, z of squared norm at most N ≥ 1 and
     /// ẇ = (x − y)/Δt, each of ẇᵀMẇ, |m₁ᵀẇ|, |m₁ᵀ(x − 2y + z)|/Δt², xᵀKx, |fᵀx| and the
     /// output values of x is at most c·N. The stepper uses it to prove cheaply that the outputs of

@@ -8,6 +8,53 @@
 
 use super::backend::EnergyPieces;
 use super::FreeSystem;
+use serde::{Deserialize, Serialize};
+
+/// Energy that enters or leaves the plate over one step, or summed over steps (J), such that the
+/// discrete energy changes by `base_work + load_work − contact_loss − damping_loss`
+/// (docs/scheme-damping-energy.md derives each term from the scheme).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct EnergyFlows {
+    /// Work of the force the base supplies: ½(z_{n+1} − z_{n−1}) G_n.
+    pub base_work: f64,
+    /// Work of the load minus the change of its potential (zero for a constant pressure):
+    /// ¼(p_{n+1} + p_{n−1})(L_{n+1} − L_{n−1}) − ½p_{n+1}(L_{n+1} + L_n) + ½p_n(L_n + L_{n−1})
+    /// with L_k = Fᵀu_k for a 1 Pa pressure.
+    pub load_work: f64,
+    /// Energy removed at the obstacles: −½ f_nᵀB(u_{n+1} − u_{n−1}), ≥ 0 for e = 0.
+    pub contact_loss: f64,
+    /// Energy removed by damping: Δwᵀ C Δw / (4Δt), Δw = w_{n+1} − w_{n−1}, ≥ 0.
+    pub damping_loss: f64,
+}
+
+impl EnergyFlows {
+    /// The change of the discrete energy these flows make: base + load − contact − damping.
+    pub fn net(&self) -> f64 {
+        self.base_work + self.load_work - self.contact_loss - self.damping_loss
+    }
+
+    /// The flows summed with `other`.
+    pub fn plus(&self, other: &EnergyFlows) -> EnergyFlows {
+        EnergyFlows {
+            base_work: self.base_work + other.base_work,
+            load_work: self.load_work + other.load_work,
+            contact_loss: self.contact_loss + other.contact_loss,
+            damping_loss: self.damping_loss + other.damping_loss,
+        }
+    }
+
+    /// Whether every flow is finite.
+    pub fn is_finite(&self) -> bool {
+        [
+            self.base_work,
+            self.load_work,
+            self.contact_loss,
+            self.damping_loss,
+        ]
+        .iter()
+        .all(|v| v.is_finite())
+    }
+}
 
 /// The three energies of one level pair (J).
 #[derive(Clone, Copy, Debug, PartialEq)]

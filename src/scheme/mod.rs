@@ -38,7 +38,8 @@ mod stepper;
 mod vectors;
 
 pub use auto::MODAL_AUTO_LIMIT;
-pub use backend::{EnergyPieces, LinearBackend, StepForcing};
+pub use backend::{EnergyPieces, FieldSums, LinearBackend, StepForcing};
+pub use energy::EnergyFlows;
 pub use free_system::FreeSystem;
 pub use outputs::Outputs;
 pub use state::State;

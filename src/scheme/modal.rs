@@ -15,7 +15,7 @@
 //! step is proven contact-free at the cost of an m × |L| product instead of m × n; only steps near
 //! an obstacle pay for the full product.
 
-use super::backend::{EnergyPieces, LinearBackend, StepForcing};
+use super::backend::{EnergyPieces, FieldSums, LinearBackend, StepForcing};
 use super::vectors::{dot, sum_of_squares};
 use crate::modes::Modes;
 use crate::scene::Damping;
@@ -26,8 +26,12 @@ use std::sync::Arc;
 /// The diagonal system of one kind of step in modal coordinates: D = diag(d_k).
 #[derive(Debug)]
 struct ModalSystem {
+    /// d_k.
+    d: Vec<f64>,
     /// 1/d_k (a product per mode and step instead of a division).
     inverse_d: Vec<f64>,
+    /// Whether there is damping: without it every `lagged` weight is 1 and is not read.
+    damped: bool,
     /// (d_k − Δt c_k)/d_k, the weight of q_{n−1} after dividing by d_k: exactly 1 without damping.
     lagged: Vec<f64>,
     /// Cᵀ scaled by D⁻¹ row-wise, stored as n × m: column i is D⁻¹ Cᵀ e_i = Φᵀ A⁻¹ Bᵀ e_i.
@@ -61,6 +65,7 @@ impl ModalSystem {
         );
         ModalSystem {
             inverse_d: d.iter().map(|d| 1.0 / d).collect(),
+            damped: !damping.is_zero(),
             lagged: d
                 .iter()
                 .zip(&coefficient)
@@ -68,6 +73,32 @@ impl ModalSystem {
                 .collect(),
             c_t_scaled,
             delassus,
+            d,
+        }
+    }
+
+    /// Writes q_{n+1} = (w_c q_n + r_k) / d_k − w_p ω_k q_{n−1} with ω_k the `lagged` weight
+    /// (read only when `LAGGED`; it is exactly 1 otherwise), r = load·Φᵀf + translation·Φᵀm₁ and
+    /// `weights` = (w_c, w_p, load, translation).
+    fn advance<const LAGGED: bool>(
+        &self,
+        data: &ModalData,
+        weights: [f64; 4],
+        previous: &[f64],
+        current: &[f64],
+        next: &mut [f64],
+    ) {
+        let [current_weight, previous_weight, load, translation] = weights;
+        for ((((q, &c), &p), (&inverse_d, &lagged)), (&f, &m)) in next
+            .iter_mut()
+            .zip(current)
+            .zip(previous)
+            .zip(self.inverse_d.iter().zip(&self.lagged))
+            .zip(data.load.iter().zip(&data.translation_mass))
+        {
+            let lagged = if LAGGED { lagged } else { 1.0 };
+            *q = (current_weight * c + load * f + translation * m) * inverse_d
+                - previous_weight * lagged * p;
         }
     }
 }
@@ -182,6 +213,10 @@ pub struct ModalBackend {
     /// Whether the last prediction was a start step's (its Delassus operator and correction
     /// are those of the undamped start system).
     start: bool,
+    /// The prediction before the last [`LinearBackend::correct`], when that correction belongs
+    /// to the step being solved: then q_{n+1} − q* = D⁻¹Cᵀμ.
+    unconstrained: Vec<f64>,
+    corrected: bool,
 }
 
 impl ModalBackend {
@@ -191,6 +226,8 @@ impl ModalBackend {
             low_values: vec![0.0; data.c.nrows()],
             next_norms_squared: [f64::INFINITY; 2],
             start: false,
+            unconstrained: vec![0.0; data.omega_squared.len()],
+            corrected: false,
             data,
         }
     }
@@ -207,34 +244,73 @@ impl LinearBackend for ModalBackend {
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    ) -> f64 {
+    ) -> FieldSums {
         let data = &*self.data;
         self.start = forcing.start;
+        self.corrected = false;
         let system = data.system(forcing.start);
-        let (load, translation) = (forcing.load, forcing.translation);
         let (current_weight, previous_weight) = if forcing.start {
             (1.0, 0.0)
         } else {
             (2.0, 1.0)
         };
-        for ((((q, &c), &p), (&inverse_d, &lagged)), (&f, &m)) in next
-            .iter_mut()
-            .zip(current)
-            .zip(previous)
-            .zip(system.inverse_d.iter().zip(&system.lagged))
-            .zip(data.load.iter().zip(&data.translation_mass))
-        {
-            *q = (current_weight * c + load * f + translation * m) * inverse_d
-                - previous_weight * lagged * p;
+        let weights = [
+            current_weight,
+            previous_weight,
+            forcing.load,
+            forcing.translation,
+        ];
+        if system.damped {
+            system.advance::<true>(data, weights, previous, current, next);
+        } else {
+            system.advance::<false>(data, weights, previous, current, next);
         }
         // The squared norms of q_{n+1} over the low and the high modes, for the screening.
         let low = SCREENING_MODES.min(next.len());
         self.next_norms_squared = [sum_of_squares(&next[..low]), sum_of_squares(&next[low..])];
-        self.next_norms_squared[0] + self.next_norms_squared[1]
+        FieldSums {
+            norm_squared: self.next_norms_squared[0] + self.next_norms_squared[1],
+            translation: translation_mass(data, next),
+        }
     }
 
-    fn norm_squared(&self, field: &[f64]) -> f64 {
-        sum_of_squares(field)
+    fn field_sums(&self, field: &[f64]) -> FieldSums {
+        let low = SCREENING_MODES.min(field.len());
+        FieldSums {
+            norm_squared: sum_of_squares(&field[..low]) + sum_of_squares(&field[low..]),
+            translation: translation_mass(&self.data, field),
+        }
+    }
+
+    fn load_projection(&self, field: &[f64]) -> f64 {
+        dot(&self.data.load, field)
+    }
+
+    /// After a correction: μᵀC(x − y) = (Cᵀμ)ᵀ(x − y) = Σ_k d_k (q_{n+1} − q*)_k (x − y)_k, one
+    /// contiguous pass. Otherwise (the clarabel path) Σ_i μ_i C_i(x − y) row by row.
+    fn multiplier_work(&mut self, next: &[f64], previous: &[f64], multipliers: &[f64]) -> f64 {
+        if self.corrected {
+            self.corrected = false;
+            // Cᵀμ = D(q_{n+1} − q*), formed in place of q*.
+            let d = &self.data.system(self.start).d;
+            for ((star, &x), &d) in self.unconstrained.iter_mut().zip(next).zip(d) {
+                *star = d * (x - *star);
+            }
+            let scaled = faer::ColRef::from_slice(&self.unconstrained).transpose();
+            scaled * faer::ColRef::from_slice(next) - scaled * faer::ColRef::from_slice(previous)
+        } else {
+            let c = &self.data.c;
+            multipliers
+                .iter()
+                .enumerate()
+                .filter(|(_, &mu)| mu != 0.0)
+                .map(|(i, &mu)| {
+                    mu * (0..c.ncols())
+                        .map(|k| c[(i, k)] * (next[k] - previous[k]))
+                        .sum::<f64>()
+                })
+                .sum()
+        }
     }
 
     /// Φᵀ M_ff Φ = I and Φᵀ K_ff Φ = Ω², so ‖q‖ is the M-norm of w and wᵀKw ≤ ω²_max‖q‖².
@@ -290,6 +366,8 @@ impl LinearBackend for ModalBackend {
     }
 
     fn correct(&mut self, next: &mut [f64], active: &[usize], multipliers: &[f64]) {
+        self.unconstrained.copy_from_slice(next);
+        self.corrected = true;
         for &i in active {
             let mu = multipliers[i];
             let column = self
@@ -348,6 +426,11 @@ impl LinearBackend for ModalBackend {
     fn output_values(&self, field: &[f64]) -> [f64; 3] {
         self.data.outputs.each_ref().map(|row| dot(row, field))
     }
+}
+
+/// m₁ᵀw = (Φᵀm₁)ᵀq, by faer's vectorised inner product (the same summation for every call).
+fn translation_mass(data: &ModalData, q: &[f64]) -> f64 {
+    faer::ColRef::from_slice(&data.translation_mass).transpose() * faer::ColRef::from_slice(q)
 }
 
 /// q = Φᵀ M_ff w.

@@ -21,4 +21,16 @@ pub struct Outputs {
     pub active_nodes: usize,
     /// Sum of the contact forces (N), positive upwards.
     pub contact_force: f64,
+    /// −G_n: the vertical force the plate exerts on its base (N, positive upward), from the
+    /// equation at t_n of the last step (t_{n+1} − Δt), while the displacements are at t_{n+1};
+    /// at t_0 the static value p₀·∫1 + Σλ of the preload.
+    pub base_force: f64,
+    /// Work done on the plate by the base since t_1 (J).
+    pub base_work: f64,
+    /// Work done by `load.pressure` since t_1, net of its potential's change (J).
+    pub load_work: f64,
+    /// Energy removed at the obstacles since t_1 (J).
+    pub contact_loss: f64,
+    /// Energy removed by damping since t_1 (J).
+    pub damping_loss: f64,
 }

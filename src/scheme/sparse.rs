@@ -8,7 +8,7 @@
 //! A₀ = M + ½Δt²K, factored as well. Delassus columns B A⁻¹ Bᵀ e_j are computed on demand (one
 //! solve each) and cached, so only vertices that ever touch an obstacle cost anything.
 
-use super::backend::{EnergyPieces, LinearBackend, StepForcing};
+use super::backend::{EnergyPieces, FieldSums, LinearBackend, StepForcing};
 use super::free_system::{multiply_add, quadratic, FreeSystem};
 use super::vectors::{dot, sum_of_squares};
 use crate::error::Error;
@@ -117,16 +117,35 @@ impl LinearBackend for SparseBackend {
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    ) -> f64 {
+    ) -> FieldSums {
         let data = &*self.data;
         self.start = forcing.start;
         data.right_hand_side(forcing, previous, current, &mut self.rhs);
         next.copy_from_slice(&self.rhs);
-        data.solve(self.start, next)
+        FieldSums {
+            norm_squared: data.solve(self.start, next),
+            translation: dot(&data.translation_mass, next),
+        }
     }
 
-    fn norm_squared(&self, field: &[f64]) -> f64 {
-        sum_of_squares(field)
+    fn field_sums(&self, field: &[f64]) -> FieldSums {
+        FieldSums {
+            norm_squared: sum_of_squares(field),
+            translation: dot(&self.data.translation_mass, field),
+        }
+    }
+
+    fn load_projection(&self, field: &[f64]) -> f64 {
+        dot(&self.data.load, field)
+    }
+
+    fn multiplier_work(&mut self, next: &[f64], previous: &[f64], multipliers: &[f64]) -> f64 {
+        multipliers
+            .iter()
+            .zip(&self.data.constrained)
+            .filter(|(&mu, _)| mu != 0.0)
+            .map(|(&mu, &d)| mu * (next[d] - previous[d]))
+            .sum()
     }
 
     /// With ‖·‖₁ the largest column sum of absolute values, which bounds the 2-norm of a

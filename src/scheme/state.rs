@@ -1,5 +1,6 @@
 //! The serializable dynamic state of a stepper, for FMU get/set/serialize.
 
+use super::energy::EnergyFlows;
 use crate::contact::BoundState;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Scene};
@@ -28,6 +29,12 @@ pub struct State {
     pub active_set: Vec<i8>,
     /// Contact forces of the last step (N).
     pub forces: Vec<f64>,
+    /// −G of the last step (N): the force on the base, see [`Outputs`](super::Outputs).
+    #[serde(default)]
+    pub base_force: f64,
+    /// Energy flows summed since t_1 (J).
+    #[serde(default)]
+    pub flows: EnergyFlows,
 }
 
 /// The code of a contact state in [`State::active_set`].
@@ -74,6 +81,16 @@ impl State {
         finite("previous", &self.previous)?;
         finite("current", &self.current)?;
         finite("forces", &self.forces)?;
+        finite("base_force", &[self.base_force])?;
+        finite(
+            "flows",
+            &[
+                self.flows.base_work,
+                self.flows.load_work,
+                self.flows.contact_loss,
+                self.flows.damping_loss,
+            ],
+        )?;
         if self.step_index > MAX_STEP_INDEX {
             return Err(Error::invalid_state(
                 "step_index",

@@ -3,7 +3,7 @@
 
 use super::auto;
 use super::backend::{BackendDelassus, LinearBackend, StepForcing};
-use super::energy::DiscreteEnergy;
+use super::energy::{DiscreteEnergy, EnergyFlows};
 use super::outputs::Outputs;
 use super::preload::static_preload;
 use super::reference::solve_reference;
@@ -44,9 +44,17 @@ pub struct StepReport {
     /// active-set method did not converge and clarabel solved the step instead, or clarabel's
     /// answer could not be polished to a KKT-certified solution.
     pub warning: Option<String>,
-    /// The energy the damping removed in this step (J): Δwᵀ C Δw / (4Δt) with Δw = w_{n+1} − w_{n−1}
-    /// and C = αM + βK; 0 without damping and at the start step, which has no damping term.
-    pub damping_loss: f64,
+    /// −G_n: the force the plate exerts on its base in this step's equation, at t_n (N, positive
+    /// upward); see [`Outputs::base_force`].
+    pub base_force: f64,
+    /// Σ_i f_i, the total contact force of this step (N, positive upward).
+    pub contact_force: f64,
+    /// Whether the set of vertices in contact went from empty to non-empty in this step.
+    pub impact: bool,
+    /// The energy that entered and left the plate in this step (J). All zero for the start step,
+    /// which has no exact energy identity (its equation is not the scheme's, see
+    /// docs/scheme-damping-energy.md): [`Outputs`] sums the flows from the second step on.
+    pub flows: EnergyFlows,
 }
 
 /// Relative tolerance of the obstacle bounds when a state is restored or an obstacle moved:
@@ -61,7 +69,8 @@ pub const RESTORE_BOUND_TOLERANCE: f64 = 1e-6;
 /// moves the hardest-to-move constrained vertex across the gap in one step, max_i A_ii·gap/Δt².
 /// The active-set method accepts a wrong-signed multiplier μ_i while W_ii·|μ_i| ≤ 1e-11 of the gap
 /// scale, with W_ii ≥ 1/A_ii, so its forces have the wrong sign by less than 1e-11·A_ii·gap/Δt²
-/// when the gap sets the scale: 1e-9 leaves a factor 100 for predictions far beyond the gap.
+/// (twice that after the start step) when the gap sets the scale: 1e-9 leaves a factor 50 for
+/// predictions far beyond the gap.
 pub const RESTORE_FORCE_TOLERANCE: f64 = 1e-9;
 
 /// The fields of the three time levels, in the backend's coordinates.
@@ -115,13 +124,22 @@ pub struct Stepper {
     forces: Vec<f64>,
     /// Set when the preload's contact problem was solved less exactly than normal.
     initial_warning: Option<String>,
+    /// Vertices in contact after the last step.
+    active_count: usize,
+    /// (m₁ᵀw_{n−1}, m₁ᵀw_n): the mass-weighted sums of the two levels, for G_n.
+    translation: [f64; 2],
+    /// −G of the last step (N).
+    base_force: f64,
+    /// Energy flows summed since t_1.
+    flows: EnergyFlows,
     // Workspaces for the hot path.
     /// ‖w_n‖² in the backend's coordinates, for the overflow test of the next step.
     current_norm_squared: f64,
     /// The backend's [`LinearBackend::magnitude_scale`] for Δt.
     magnitude_scale: f64,
-    /// The contact states while a step is solved, adopted when it succeeds.
+    /// The contact states and forces while a step is solved, adopted when it succeeds.
     trial_states: Vec<BoundState>,
+    trial_forces: Vec<f64>,
     prediction: Vec<f64>,
     lower: Vec<f64>,
     upper: Vec<f64>,
@@ -155,9 +173,18 @@ impl Stepper {
         // at n = 0 or 1 continues bit-identically (restore evaluates them the same way).
         let mut constrained_w0 = vec![0.0; m];
         backend.constrained_values(&field, &mut constrained_w0);
+        let sums = backend.field_sums(&field);
+        // At rest in static equilibrium, the base balances the preload and the obstacles:
+        // 0 = G + p₀∫1 + Σλ.
+        let base_force =
+            scene.initial.preload_pressure * free.area + preload.forces.iter().sum::<f64>();
         Ok(Stepper {
             scene: scene.clone(),
-            current_norm_squared: backend.norm_squared(&field),
+            current_norm_squared: sums.norm_squared,
+            active_count: preload.states.iter().filter(|s| s.is_active()).count(),
+            translation: [sums.translation; 2],
+            base_force,
+            flows: EnergyFlows::default(),
             magnitude_scale: backend.magnitude_scale(scene.solver.time_step),
             backend,
             linear,
@@ -173,6 +200,7 @@ impl Stepper {
             forces: preload.forces,
             initial_warning: preload.warning,
             trial_states: vec![BoundState::Free; m],
+            trial_forces: vec![0.0; m],
             prediction: vec![0.0; m],
             lower: vec![0.0; m],
             upper: vec![0.0; m],
@@ -331,8 +359,8 @@ impl Stepper {
             current,
             next,
         } = &mut self.levels;
-        let mut norm_squared = self.backend.predict(previous, current, &forcing, next);
-        if !norm_squared.is_finite() {
+        let mut sums = self.backend.predict(previous, current, &forcing, next);
+        if !sums.norm_squared.is_finite() {
             return Err(self.overflow("the unconstrained displacement", t_next, base_next));
         }
         let m = self.prediction.len();
@@ -393,11 +421,15 @@ impl Stepper {
         // 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 gives b_0 = M u_0 + ½Δt²F̄_0), so there
         // f = 2μ/Δt².
         let equation_scale = if start { 2.0 } else { 1.0 };
-        let mut force_magnitude = 0.0;
+        let (mut contact_force, mut force_magnitude) = (0.0, 0.0);
         if let Some(mu) = &multipliers {
-            norm_squared = self.backend.norm_squared(&self.levels.next);
-            force_magnitude = equation_scale * mu.iter().map(|x| x.abs()).sum::<f64>() / (dt * dt);
-            if !(norm_squared.is_finite() && force_magnitude.is_finite()) {
+            sums = self.backend.field_sums(&self.levels.next);
+            for (f, &x) in self.trial_forces.iter_mut().zip(mu) {
+                *f = equation_scale * x / (dt * dt);
+            }
+            contact_force = self.trial_forces.iter().sum();
+            force_magnitude = self.trial_forces.iter().map(|f| f.abs()).sum();
+            if !(sums.norm_squared.is_finite() && force_magnitude.is_finite()) {
                 return Err(self.overflow(
                     "the displacement or the contact forces of the contact solve",
                     t_next,
@@ -405,7 +437,7 @@ impl Stepper {
                 ));
             }
         }
-        if !self.outputs_provably_finite(norm_squared, base_next, force_magnitude) {
+        if !self.outputs_provably_finite(sums.norm_squared, base_next, force_magnitude) {
             let (energy, values) = self.energy_and_values(
                 &self.levels.current,
                 &self.levels.next,
@@ -423,22 +455,23 @@ impl Stepper {
                 return Err(self.overflow("the energy or an output", t_next, base_next));
             }
         }
-        let damping_loss = if start || self.free.damping.is_zero() {
-            0.0
+        let base_force = -self.base_supply(base_next, sums.translation, contact_force);
+        let flows = if start {
+            EnergyFlows::default()
         } else {
-            self.backend
-                .damping_quadratic(&self.levels.next, &self.levels.previous)
-                / (4.0 * dt)
+            self.step_flows(base_next, -base_force, multipliers.as_deref())
         };
-        if !damping_loss.is_finite() {
-            return Err(self.overflow("the energy removed by damping", t_next, base_next));
+        if !(base_force.is_finite() && flows.is_finite()) {
+            return Err(self.overflow(
+                "the force on the base or an energy flow",
+                t_next,
+                base_next,
+            ));
         }
         // The step succeeded: from here on nothing fails.
         let active = match &multipliers {
-            Some(mu) => {
-                for (f, &x) in self.forces.iter_mut().zip(mu) {
-                    *f = equation_scale * x / (dt * dt);
-                }
+            Some(_) => {
+                std::mem::swap(&mut self.forces, &mut self.trial_forces);
                 std::mem::swap(&mut self.states, &mut self.trial_states);
                 self.states.iter().filter(|s| s.is_active()).count()
             }
@@ -457,7 +490,12 @@ impl Stepper {
                 .constrained_values(&self.levels.next, &mut self.restitution_current);
         }
         self.levels.accept();
-        self.current_norm_squared = norm_squared;
+        self.current_norm_squared = sums.norm_squared;
+        let impact = self.active_count == 0 && active > 0;
+        self.active_count = active;
+        self.translation = [self.translation[1], sums.translation];
+        self.base_force = base_force;
+        self.flows = self.flows.plus(&flows);
         self.base = [z_curr, base_next];
         self.pressure = [self.pressure[1], p_next];
         self.step_index += 1;
@@ -466,8 +504,91 @@ impl Stepper {
             path,
             bounds_evaluated: !proven,
             warning,
-            damping_loss,
+            base_force,
+            contact_force,
+            impact,
+            flows,
         })
+    }
+
+    /// G_n, the vertical force the base supplies to the plate in the step being solved, from the
+    /// scheme's equation at t_n tested with the rigid translation 𝟙 (K𝟙 = 0, and 𝟙ᵀC = α(M𝟙)ᵀ is
+    /// the reaction of the mass-proportional dashpots, which act from the base frame, so that G
+    /// is the whole force through the base; docs/scheme-damping-energy.md):
+    /// G_n = 𝟙ᵀM(u_{n+1} − 2u_n + u_{n−1})/Δt² − F̄_n∫1 − Σ_i f_i, where 𝟙ᵀMu = M_tot z + m₁ᵀw.
+    /// The start step's equation 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 + R_0 gives
+    /// G_0 = 2𝟙ᵀM(u_1 − u_0)/Δt² − F̄_0∫1 − Σ_i f_i.
+    fn base_supply(&self, base_next: f64, translation_next: f64, contact_force: f64) -> f64 {
+        let dt = self.scene.solver.time_step;
+        let (m, area) = (self.free.total_mass, self.free.area);
+        let [z_prev, z_curr] = self.base;
+        let [s_prev, s_curr] = self.translation;
+        let p_next = self.scene.load.pressure;
+        let (momentum_change, mean_pressure) = if self.step_index == 0 {
+            (
+                2.0 * (m * (base_next - z_curr) + (translation_next - s_curr)),
+                0.5 * (p_next + self.pressure[1]),
+            )
+        } else {
+            (
+                m * (base_next - 2.0 * z_curr + z_prev)
+                    + (translation_next - 2.0 * s_curr + s_prev),
+                0.5 * (p_next + self.pressure[0]),
+            )
+        };
+        momentum_change / (dt * dt) - mean_pressure * area - contact_force
+    }
+
+    /// The energy flows of the step being solved (not the start step), with `supply` = G_n and
+    /// the QP multipliers μ of its contact solve, if any: base work
+    /// ½(z_{n+1} − z_{n−1})G_n, load work net of the load potential's change, contact loss
+    /// −½ f_nᵀB(u_{n+1} − u_{n−1}) and damping loss Δwᵀ C Δw / (4Δt) (see [`EnergyFlows`]).
+    fn step_flows(
+        &mut self,
+        base_next: f64,
+        supply: f64,
+        multipliers: Option<&[f64]>,
+    ) -> EnergyFlows {
+        let dt = self.scene.solver.time_step;
+        let [z_prev, z_curr] = self.base;
+        let TimeLevels {
+            previous,
+            current,
+            next,
+        } = &self.levels;
+        let stroke = base_next - z_prev;
+        // f = μ/Δt² (2μ/Δt² at the start step, which has no flows), u = z𝟙 + w at the vertices.
+        let contact_loss = match multipliers {
+            Some(mu) => {
+                let relative = self.backend.multiplier_work(next, previous, mu) / (dt * dt);
+                -0.5 * (stroke * self.trial_forces.iter().sum::<f64>() + relative)
+            }
+            None => 0.0,
+        };
+        let [p_prev, p_curr] = self.pressure;
+        let p_next = self.scene.load.pressure;
+        let load_work = if p_prev == 0.0 && p_curr == 0.0 && p_next == 0.0 {
+            0.0
+        } else {
+            // L_k = Fᵀu_k for a 1 Pa pressure = z_k∫1 + fᵀw_k.
+            let area = self.free.area;
+            let l_next = area * base_next + self.backend.load_projection(next);
+            let l_curr = area * z_curr + self.backend.load_projection(current);
+            let l_prev = area * z_prev + self.backend.load_projection(previous);
+            0.25 * (p_next + p_prev) * (l_next - l_prev) - 0.5 * p_next * (l_next + l_curr)
+                + 0.5 * p_curr * (l_curr + l_prev)
+        };
+        let damping_loss = if self.free.damping.is_zero() {
+            0.0
+        } else {
+            self.backend.damping_quadratic(next, previous) / (4.0 * dt)
+        };
+        EnergyFlows {
+            base_work: 0.5 * stroke * supply,
+            load_work,
+            contact_loss,
+            damping_loss,
+        }
     }
 
     /// Whether the outputs after a step to `base_next`, whose new field has squared norm
@@ -613,6 +734,11 @@ impl Stepper {
             energy_total: energy.total,
             active_nodes,
             contact_force,
+            base_force: self.base_force,
+            base_work: self.flows.base_work,
+            load_work: self.flows.load_work,
+            contact_loss: self.flows.contact_loss,
+            damping_loss: self.flows.damping_loss,
         }
     }
 
@@ -644,6 +770,8 @@ impl Stepper {
             current: self.levels.current.clone(),
             active_set: self.states.iter().map(|s| state_code(*s)).collect(),
             forces: self.forces.clone(),
+            base_force: self.base_force,
+            flows: self.flows,
         }
     }
 
@@ -746,7 +874,15 @@ impl Stepper {
         self.levels.previous.copy_from_slice(&state.previous);
         self.levels.current.copy_from_slice(&state.current);
         self.levels.next.copy_from_slice(&state.current);
-        self.current_norm_squared = self.backend.norm_squared(&self.levels.current);
+        let sums = self.backend.field_sums(&self.levels.current);
+        self.current_norm_squared = sums.norm_squared;
+        self.translation = [
+            self.backend.field_sums(&self.levels.previous).translation,
+            sums.translation,
+        ];
+        self.active_count = states.iter().filter(|s| s.is_active()).count();
+        self.base_force = state.base_force;
+        self.flows = state.flows;
         let qp = self.scene.solver.qp;
         self.scene = state.scene.clone();
         self.scene.solver.qp = qp;
