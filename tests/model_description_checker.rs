@@ -24,7 +24,7 @@ fn rejected(xml: &str, words: &[&str]) {
 #[test]
 fn the_shipped_description_passes_and_generates_the_table() {
     let model = check(XML).unwrap();
-    assert_eq!(model.variables.len(), 30);
+    assert_eq!(model.variables.len(), 38);
     let code = generate(&model);
     assert!(code.contains("pub const PLATE_LENGTH: u32 = 1;"), "{code}");
     assert!(code.contains("pub const CONTACT_ACTIVE_NODES: u32 = 43;"));
@@ -101,8 +101,8 @@ fn missing_or_forbidden_start() {
         &["base.displacement", "start value is required"],
     );
     rejected(
-        &broken(r#"<Real unit="N"/>"#, r#"<Real unit="N" start="0"/>"#),
-        &["contact.force", "not allowed"],
+        &broken(r#"<Real unit="N.s"/>"#, r#"<Real unit="N.s" start="0"/>"#),
+        &["contact.impulse", "not allowed"],
     );
 }
 

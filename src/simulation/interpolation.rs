@@ -6,9 +6,11 @@
 //! θ = (t + h − t_{N−1})/Δt ∈ (0, 1):
 //!
 //! * every continuous output is interpolated linearly, y(t + h) = y_{N−1} + θ (y_N − y_{N−1}):
-//!   the displacements and the energies. Any linear relation that the grid values satisfy holds
-//!   at t + h too, and an energy that never increases from one grid point to the next never
-//!   increases from one communication point to the next. The displacement of every vertex at
+//!   the displacements, the energies, the force on the base and the works and losses summed
+//!   since the start. Any linear relation that the grid values satisfy holds at t + h too, such
+//!   as the energy balance ΔE = base work + load work − contact loss − damping loss, and an energy
+//!   that never increases from one grid point to the next never increases from one communication
+//!   point to the next. The displacement of every vertex at
 //!   t + h is a convex combination of two admissible ones, so it respects the obstacles. On a
 //!   smooth output the interpolation errs by at most Δt²/8·max|ÿ|: second order, as the scheme.
 //! * the contact state comes from the last grid point at or before t + h, t_{N−1}:
@@ -50,6 +52,11 @@ pub fn interpolate(previous: &Outputs, next: &Outputs, theta: f64) -> Outputs {
         energy_total: mix(previous.energy_total, next.energy_total),
         active_nodes: previous.active_nodes,
         contact_force: previous.contact_force,
+        base_force: mix(previous.base_force, next.base_force),
+        base_work: mix(previous.base_work, next.base_work),
+        load_work: mix(previous.load_work, next.load_work),
+        contact_loss: mix(previous.contact_loss, next.contact_loss),
+        damping_loss: mix(previous.damping_loss, next.damping_loss),
     }
 }
 
@@ -86,6 +93,11 @@ impl CommunicationPoint {
             ("energy_elastic", o.energy_elastic),
             ("energy_total", o.energy_total),
             ("contact_force", o.contact_force),
+            ("base_force", o.base_force),
+            ("base_work", o.base_work),
+            ("load_work", o.load_work),
+            ("contact_loss", o.contact_loss),
+            ("damping_loss", o.damping_loss),
         ];
         if let Some((name, x)) = values.iter().find(|(_, x)| !x.is_finite()) {
             return Err(format!(
@@ -116,6 +128,11 @@ mod tests {
             energy_total: 4.0 * x,
             active_nodes: active,
             contact_force: 100.0 * x,
+            base_force: -10.0 * x,
+            base_work: 5.0 * x,
+            load_work: 6.0 * x,
+            contact_loss: 7.0 * x,
+            damping_loss: 8.0 * x,
         }
     }
 
@@ -125,6 +142,10 @@ mod tests {
         let mid = interpolate(&a, &b, 0.25);
         assert_eq!((mid.corner1, mid.corner2, mid.edge_mid), (1.5, -1.5, 3.0));
         assert_eq!(mid.energy_total, 6.0);
+        assert_eq!(
+            (mid.base_force, mid.base_work, mid.damping_loss),
+            (-15.0, 7.5, 12.0)
+        );
         assert_eq!((mid.active_nodes, mid.contact_force), (2, 100.0));
         assert_eq!(interpolate(&a, &b, 0.0), a);
     }

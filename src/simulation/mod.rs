@@ -4,7 +4,8 @@
 //! * [`grid`]: the internal time grid t_n = t_start + nΔt, where a communication step ends on it,
 //!   and the limits on a communication step;
 //! * [`input`]: how a sampled external base displacement is applied on the grid;
-//! * [`interpolation`]: the outputs at a communication point between two grid points.
+//! * [`interpolation`]: the outputs at a communication point between two grid points;
+//! * [`contact_summary`]: impacts, impulse and peak contact force over a communication step.
 //!
 //! The base displacement of the plate is the scene's built-in sine c sin(2πf(t − t_start)) plus
 //! the external signal. The internal steps always lie on the fixed grid, whatever the host's
@@ -12,9 +13,11 @@
 //! grid point t_N ≥ t + h (none when the grid already reaches it), with the external base planned
 //! by [`input`], reports each internal step to an observer, and returns a [`CommunicationStep`]
 //! summary. When t + h lies between t_{N−1} and t_N the outputs are those at t + h
-//! ([`interpolation`]). Outputs are computed at most once per state, on demand, and cached until
+//! ([`interpolation`]). What the contact did over the internal steps whose grid times lie in
+//! (t, t + h] is summarised in [`contact_summary`]. Outputs are computed at most once per state, on demand, and cached until
 //! the state changes.
 
+pub mod contact_summary;
 pub mod grid;
 pub mod input;
 pub mod interpolation;
@@ -23,6 +26,7 @@ use crate::error::Error;
 use crate::scene::Scene;
 use crate::scheme::Stepper;
 pub use crate::scheme::{Outputs, State, StepPath, StepReport};
+use contact_summary::ContactSummary;
 use grid::{GridError, StepEnd, TimeGrid};
 use input::{InputHistory, InputSample};
 use interpolation::{interpolate, CommunicationPoint};
@@ -77,6 +81,11 @@ pub struct SimulationState {
     pub input: InputHistory,
     /// Where the communication point lies on the grid the stepper has computed.
     pub point: CommunicationPoint,
+    /// The contact over the last communication step.
+    pub contact: ContactSummary,
+    /// The contact of the internal step computed ahead of the communication point, not yet
+    /// reported (empty when the communication point is on the grid).
+    pub contact_ahead: ContactSummary,
 }
 
 /// How far past an obstacle a vertex may lie, as a fraction of the gap (of 1 m with one obstacle),
@@ -119,6 +128,8 @@ pub struct Simulation {
     grid: TimeGrid,
     input: InputHistory,
     point: CommunicationPoint,
+    contact: ContactSummary,
+    contact_ahead: ContactSummary,
     /// The stepper at n = 0 and the external base it was built for, for [`Simulation::restart`].
     initial: (State, f64),
     /// The outputs at the last computed grid point t_N.
@@ -142,6 +153,8 @@ impl Simulation {
             },
             input: InputHistory::new(external_base),
             point: CommunicationPoint::OnGrid,
+            contact: ContactSummary::default(),
+            contact_ahead: ContactSummary::default(),
             grid_outputs: OnceCell::new(),
             interpolated: OnceCell::new(),
             stepper,
@@ -183,6 +196,8 @@ impl Simulation {
         self.grid.start = start_time;
         self.input = InputHistory::new(external_base);
         self.point = CommunicationPoint::OnGrid;
+        self.contact = ContactSummary::default();
+        self.contact_ahead = ContactSummary::default();
         self.invalidate_outputs();
         Ok(SetUp::Reused)
     }
@@ -239,6 +254,11 @@ impl Simulation {
         }
     }
 
+    /// The contact over the internal steps of the last communication step (zero before the first).
+    pub fn contact(&self) -> &ContactSummary {
+        &self.contact
+    }
+
     /// The outputs at the last computed grid point t_N.
     fn grid_outputs(&self) -> &Outputs {
         self.grid_outputs.get_or_init(|| self.stepper.outputs())
@@ -269,6 +289,14 @@ impl Simulation {
         let n0 = self.stepper.step_index();
         let sample_time = self.elapsed();
         let mut summary = CommunicationStep::default();
+        // The step computed ahead (at t_{n0}) belongs to this communication step if it reaches
+        // t_{n0}; it does unless it ends before t_{n0} again.
+        let reaches_ahead = end.index > n0 || end.between.is_none();
+        self.contact = if reaches_ahead {
+            std::mem::take(&mut self.contact_ahead)
+        } else {
+            ContactSummary::default()
+        };
         if end.index == n0 {
             self.input.record(sample_time, sample.value);
             let previous = match &self.point {
@@ -290,13 +318,20 @@ impl Simulation {
         self.point = CommunicationPoint::OnGrid;
         self.interpolated = OnceCell::new();
         for i in 1..=steps {
-            if i == steps && end.between.is_some() {
+            let ahead = i == steps && end.between.is_some();
+            if ahead {
                 previous = Some(self.grid_outputs().clone());
             }
             let n = n0 + i;
             let base = self.scene().builtin_base(self.grid.elapsed(n)) + plan.at(i as f64 * dt);
             self.grid_outputs = OnceCell::new();
             let report = self.stepper.step(base)?;
+            let contact = if ahead {
+                &mut self.contact_ahead
+            } else {
+                &mut self.contact
+            };
+            contact.add(report.contact_force, report.impact, dt);
             let step = InternalStep {
                 time: self.grid.time(n),
                 report: &report,
@@ -344,6 +379,8 @@ impl Simulation {
             stepper: self.stepper.state(),
             input: self.input.clone(),
             point: self.point.clone(),
+            contact: self.contact,
+            contact_ahead: self.contact_ahead,
         }
     }
 
@@ -364,11 +401,24 @@ impl Simulation {
             .point
             .check(&grid, n, self.stepper.constrained_count())
             .and_then(|()| state.input.check(state.point.elapsed(&grid, n)))
+            .and_then(|()| {
+                state
+                    .contact
+                    .check("contact of the last communication step", n)
+            })
+            .and_then(|()| {
+                let pending = u64::from(matches!(state.point, CommunicationPoint::Between { .. }));
+                state
+                    .contact_ahead
+                    .check("contact of the step computed ahead", pending)
+            })
             .map_err(|e| invalid(format!("is inconsistent: {e}")))?;
         self.stepper.restore(&state.stepper)?;
         self.grid = grid;
         self.input = state.input.clone();
         self.point = state.point.clone();
+        self.contact = state.contact;
+        self.contact_ahead = state.contact_ahead;
         self.invalidate_outputs();
         Ok(())
     }
@@ -573,6 +623,39 @@ mod tests {
             energy < 0.9 * scale,
             "no impact took energy: {energy} J of {scale} J"
         );
+    }
+
+    /// Every internal step's contact is reported once, with the communication step that reaches
+    /// its grid time: random steps give the totals of single internal steps.
+    #[test]
+    fn contact_between_communication_points_is_reported_once() {
+        let mut scene = small(Scene::default());
+        scene.base.amplitude = 0.009;
+        scene.base.frequency = 35.0;
+        let totals = |random: bool| {
+            let mut sim = Simulation::new(&scene, 0.0, 0.0).unwrap();
+            let mut total = ContactSummary::default();
+            let mut k = 0;
+            while sim.time() < 0.3 - 1e-12 {
+                let h = if random { 1e-3 * factor(k) } else { 1e-4 };
+                let h = h.min(0.3 - sim.time());
+                step(&mut sim, h, 0.0);
+                total.merge(sim.contact());
+                k += 1;
+            }
+            assert_eq!(
+                sim.time(),
+                sim.grid_time(),
+                "the last step lands on t = 0.3 s"
+            );
+            total
+        };
+        let (fine, random) = (totals(false), totals(true));
+        assert!(fine.impacts > 5, "{fine:?}");
+        assert_eq!(random.impacts, fine.impacts);
+        assert_eq!(random.peak_force, fine.peak_force);
+        // The same terms summed in other groups: round-off only.
+        assert!((random.impulse - fine.impulse).abs() <= 1e-12 * fine.impulse.abs());
     }
 
     #[test]

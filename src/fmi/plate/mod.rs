@@ -153,7 +153,7 @@ fn report_internal_step(log: &mut Logger, step: &InternalStep) {
 /// that was not solved, such as under a pressure of 1e308 Pa).
 fn unsound_outputs(sim: &Simulation) -> Option<String> {
     let (outputs, t) = (sim.outputs(), sim.time());
-    if let Some((name, x)) = first_non_finite(outputs) {
+    if let Some((name, x)) = first_non_finite(outputs, sim.contact()) {
         return Some(format!(
             "the output {name} = {x} at t = {t} s is not finite: the simulation overflowed (a base displacement or load far beyond the plate's scale?)"
         ));
@@ -228,7 +228,7 @@ impl Model for PlateModel {
                 if let Some(message) = unsound_outputs(sim) {
                     return Err(Failure::refused(message));
                 }
-                values::output(sim.outputs(), v)
+                values::output(sim.outputs(), sim.contact(), v)
             }
             Causality::Input => Ok(Value::Real(self.input)),
             _ => values::parameter(&self.parameters, v),
@@ -455,7 +455,10 @@ mod tests {
             warning: Some(
                 "the active-set method did not converge; clarabel solved the step".into(),
             ),
-            damping_loss: 0.0,
+            base_force: 0.0,
+            contact_force: 50.0,
+            impact: true,
+            flows: Default::default(),
         };
         let step = InternalStep {
             time: 0.25,

@@ -1,6 +1,7 @@
 //! Variables ↔ the plate's data: parameters are [`Scene`] fields named by their dotted path (the
 //! variable name), read and written through [`Scene::get`] and [`Scene::with`]; outputs are
-//! [`Outputs`] fields; the one input is the external base displacement.
+//! [`Outputs`] fields and, for the contact over the last communication step, [`ContactSummary`]
+//! fields; the one input is the external base displacement.
 
 use crate::element::ElementKind;
 use crate::error::Error;
@@ -8,6 +9,7 @@ use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
 use crate::fmi::variables::{vr, Causality, Kind, Variable, VARIABLES};
 use crate::scene::Scene;
+use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{Outputs, BOUND_TOLERANCE};
 
 /// The integer code of `mesh.element` for each element family.
@@ -106,8 +108,9 @@ pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene
     Ok(updated)
 }
 
-/// The value of output `v` (by value reference) in `outputs`.
-pub fn output(outputs: &Outputs, v: &Variable) -> Result<Value, Failure> {
+/// The value of output `v` (by value reference) in `outputs` and `contact`. Refused: an impact
+/// count beyond the Integer range (more than 2³¹ − 1 impacts in one communication step).
+pub fn output(outputs: &Outputs, contact: &ContactSummary, v: &Variable) -> Result<Value, Failure> {
     Ok(match v.vr {
         vr::CORNER1_DISPLACEMENT => Value::Real(outputs.corner1),
         vr::CORNER2_DISPLACEMENT => Value::Real(outputs.corner2),
@@ -119,6 +122,19 @@ pub fn output(outputs: &Outputs, v: &Variable) -> Result<Value, Failure> {
         vr::CONTACT_ACTIVE_NODES => Value::Integer(
             i32::try_from(outputs.active_nodes).expect("at most 401² vertices are in contact"),
         ),
+        vr::BASE_FORCE => Value::Real(outputs.base_force),
+        vr::ENERGY_BASE_WORK => Value::Real(outputs.base_work),
+        vr::ENERGY_LOAD_WORK => Value::Real(outputs.load_work),
+        vr::ENERGY_CONTACT_LOSS => Value::Real(outputs.contact_loss),
+        vr::ENERGY_DAMPING_LOSS => Value::Real(outputs.damping_loss),
+        vr::CONTACT_IMPACTS => Value::Integer(i32::try_from(contact.impacts).map_err(|_| {
+            Failure::refused(format!(
+                "{} = {} exceeds the Integer range of FMI 2.0 (2^31 - 1); take shorter communication steps",
+                v.name, contact.impacts
+            ))
+        })?),
+        vr::CONTACT_IMPULSE => Value::Real(contact.impulse),
+        vr::CONTACT_PEAK_FORCE => Value::Real(contact.peak_force),
         _ => {
             return Err(Failure::refused(format!(
                 "{} has no output binding (internal error)",
@@ -128,12 +144,15 @@ pub fn output(outputs: &Outputs, v: &Variable) -> Result<Value, Failure> {
     })
 }
 
-/// The first Real output of `outputs` that is not finite, as (variable name, value).
-pub fn first_non_finite(outputs: &Outputs) -> Option<(&'static str, f64)> {
+/// The first Real output of `outputs` and `contact` that is not finite, as (variable name, value).
+pub fn first_non_finite(
+    outputs: &Outputs,
+    contact: &ContactSummary,
+) -> Option<(&'static str, f64)> {
     VARIABLES
         .iter()
         .filter(|v| v.causality == Causality::Output)
-        .find_map(|v| match output(outputs, v) {
+        .find_map(|v| match output(outputs, contact, v) {
             Ok(Value::Real(x)) if !x.is_finite() => Some((v.name, x)),
             _ => None,
         })
@@ -190,33 +209,48 @@ mod tests {
     #[test]
     fn every_output_is_bound_and_guarded() {
         let mut outputs = Outputs::default();
+        let mut contact = ContactSummary::default();
         for v in VARIABLES
             .iter()
             .filter(|v| v.causality == Causality::Output)
         {
-            output(&outputs, v).unwrap();
+            output(&outputs, &contact, v).unwrap();
         }
         let real_outputs = VARIABLES
             .iter()
             .filter(|v| v.causality == Causality::Output && v.kind == Kind::Real)
             .count();
-        assert_eq!(first_non_finite(&outputs), None);
+        assert_eq!(first_non_finite(&outputs, &contact), None);
+        contact.impulse = f64::NAN;
+        assert!(matches!(
+            first_non_finite(&outputs, &contact),
+            Some(("contact.impulse", x)) if x.is_nan()
+        ));
         outputs.energy_elastic = f64::INFINITY;
         assert_eq!(
-            first_non_finite(&outputs),
+            first_non_finite(&outputs, &contact),
             Some(("energy.elastic", f64::INFINITY))
         );
-        assert_eq!(real_outputs, 7);
-        for name in [
-            "corner1.displacement",
-            "corner2.displacement",
-            "edge_mid.displacement",
-            "energy.kinetic",
-            "energy.total",
-            "contact.force",
+        assert_eq!(real_outputs, 14);
+        for (name, kind) in [
+            ("corner1.displacement", Kind::Real),
+            ("energy.total", Kind::Real),
+            ("contact.force", Kind::Real),
+            ("base.force", Kind::Real),
+            ("energy.damping_loss", Kind::Real),
+            ("contact.impacts", Kind::Integer),
+            ("contact.peak_force", Kind::Real),
         ] {
-            assert_eq!(by_name(name).unwrap().kind, Kind::Real, "{name}");
+            assert_eq!(by_name(name).unwrap().kind, kind, "{name}");
         }
+        contact.impacts = 1 << 31;
+        let impacts = by_name("contact.impacts").unwrap();
+        let err = output(&outputs, &contact, impacts).unwrap_err();
+        assert!(
+            err.message.contains("contact.impacts = 2147483648"),
+            "{}",
+            err.message
+        );
     }
 
     #[test]
