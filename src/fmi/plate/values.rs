@@ -7,7 +7,7 @@ use crate::element::ElementKind;
 use crate::error::Error;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{vr, Causality, Kind, Variable, VARIABLES};
+use crate::fmi::variables::{vr, Kind, Variable, VARIABLES};
 use crate::scene::Scene;
 use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{Outputs, BOUND_TOLERANCE};
@@ -108,33 +108,44 @@ pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene
     Ok(updated)
 }
 
+/// How to read a Real output from the outputs at the communication time and the contact over the
+/// last communication step.
+type RealOutput = fn(&Outputs, &ContactSummary) -> f64;
+
+/// Every Real output, by value reference: the one table behind [`output`] and [`first_non_finite`].
+const REAL_OUTPUTS: [(u32, RealOutput); 14] = [
+    (vr::CORNER1_DISPLACEMENT, |o, _| o.corner1),
+    (vr::CORNER2_DISPLACEMENT, |o, _| o.corner2),
+    (vr::EDGE_MID_DISPLACEMENT, |o, _| o.edge_mid),
+    (vr::ENERGY_KINETIC, |o, _| o.energy_kinetic),
+    (vr::ENERGY_ELASTIC, |o, _| o.energy_elastic),
+    (vr::ENERGY_TOTAL, |o, _| o.energy_total),
+    (vr::CONTACT_FORCE, |o, _| o.contact_force),
+    (vr::BASE_FORCE, |o, _| o.base_force),
+    (vr::ENERGY_BASE_WORK, |o, _| o.base_work),
+    (vr::ENERGY_LOAD_WORK, |o, _| o.load_work),
+    (vr::ENERGY_CONTACT_LOSS, |o, _| o.contact_loss),
+    (vr::ENERGY_DAMPING_LOSS, |o, _| o.damping_loss),
+    (vr::CONTACT_IMPULSE, |_, c| c.impulse),
+    (vr::CONTACT_PEAK_FORCE, |_, c| c.peak_force),
+];
+
 /// The value of output `v` (by value reference) in `outputs` and `contact`. Refused: an impact
 /// count beyond the Integer range (more than 2³¹ − 1 impacts in one communication step).
 pub fn output(outputs: &Outputs, contact: &ContactSummary, v: &Variable) -> Result<Value, Failure> {
+    if let Some((_, read)) = REAL_OUTPUTS.iter().find(|(r, _)| *r == v.vr) {
+        return Ok(Value::Real(read(outputs, contact)));
+    }
     Ok(match v.vr {
-        vr::CORNER1_DISPLACEMENT => Value::Real(outputs.corner1),
-        vr::CORNER2_DISPLACEMENT => Value::Real(outputs.corner2),
-        vr::EDGE_MID_DISPLACEMENT => Value::Real(outputs.edge_mid),
-        vr::ENERGY_KINETIC => Value::Real(outputs.energy_kinetic),
-        vr::ENERGY_ELASTIC => Value::Real(outputs.energy_elastic),
-        vr::ENERGY_TOTAL => Value::Real(outputs.energy_total),
-        vr::CONTACT_FORCE => Value::Real(outputs.contact_force),
         vr::CONTACT_ACTIVE_NODES => Value::Integer(
             i32::try_from(outputs.active_nodes).expect("at most 401² vertices are in contact"),
         ),
-        vr::BASE_FORCE => Value::Real(outputs.base_force),
-        vr::ENERGY_BASE_WORK => Value::Real(outputs.base_work),
-        vr::ENERGY_LOAD_WORK => Value::Real(outputs.load_work),
-        vr::ENERGY_CONTACT_LOSS => Value::Real(outputs.contact_loss),
-        vr::ENERGY_DAMPING_LOSS => Value::Real(outputs.damping_loss),
         vr::CONTACT_IMPACTS => Value::Integer(i32::try_from(contact.impacts).map_err(|_| {
             Failure::refused(format!(
                 "{} = {} exceeds the Integer range of FMI 2.0 (2^31 - 1); take shorter communication steps",
                 v.name, contact.impacts
             ))
         })?),
-        vr::CONTACT_IMPULSE => Value::Real(contact.impulse),
-        vr::CONTACT_PEAK_FORCE => Value::Real(contact.peak_force),
         _ => {
             return Err(Failure::refused(format!(
                 "{} has no output binding (internal error)",
@@ -149,13 +160,13 @@ pub fn first_non_finite(
     outputs: &Outputs,
     contact: &ContactSummary,
 ) -> Option<(&'static str, f64)> {
-    VARIABLES
-        .iter()
-        .filter(|v| v.causality == Causality::Output)
-        .find_map(|v| match output(outputs, contact, v) {
-            Ok(Value::Real(x)) if !x.is_finite() => Some((v.name, x)),
-            _ => None,
+    REAL_OUTPUTS.iter().find_map(|&(r, read)| {
+        let x = read(outputs, contact);
+        (!x.is_finite()).then(|| {
+            let name = VARIABLES.iter().find(|v| v.vr == r).map_or("?", |v| v.name);
+            (name, x)
         })
+    })
 }
 
 /// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
@@ -182,7 +193,7 @@ pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fmi::variables::{by_name, Start};
+    use crate::fmi::variables::{by_name, Causality, Start};
 
     /// The description's start values are the scene defaults: the two cannot drift.
     #[test]
