@@ -14,8 +14,8 @@
 //! by [`input`], reports each internal step to an observer, and returns a [`CommunicationStep`]
 //! summary. When t + h lies between t_{N−1} and t_N the outputs are those at t + h
 //! ([`interpolation`]). What the contact did over the internal steps whose grid times lie in
-//! (t, t + h] is summarised in [`contact_summary`]. Outputs are computed at most once per state, on demand, and cached until
-//! the state changes.
+//! (t, t + h] is summarised in [`contact_summary`]. Outputs are computed at most once per state,
+//! on demand, and cached until the state changes.
 
 pub mod contact_summary;
 pub mod grid;
@@ -385,8 +385,9 @@ impl Simulation {
     }
 
     /// Continues from `state`, taken from a simulation with the same fixed parameters. The state
-    /// is untrusted: its grid, communication point and input history are checked here, the
-    /// stepper's fields by [`Stepper::restore`]; nothing changes unless everything checks out.
+    /// is untrusted: its grid, communication point, input history and contact summaries are
+    /// checked here, the stepper's fields by [`Stepper::restore`]; nothing changes unless
+    /// everything checks out.
     pub fn restore(&mut self, state: &SimulationState) -> Result<(), Error> {
         let grid = TimeGrid {
             start: state.start_time,

@@ -390,6 +390,21 @@ fn crafted_fmu_states_are_refused_naming_the_field() {
             "-1e308",
             "current[vertex",
         ),
+        (
+            vec!["model", "simulation", "point"],
+            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
+            "not strictly between",
+        ),
+        (
+            vec!["model", "simulation", "contact", "impacts"],
+            "1000",
+            "1000 impacts",
+        ),
+        (
+            vec!["model", "simulation", "contact_ahead", "peak_force"],
+            "5.0",
+            "covers no step",
+        ),
         (vec!["model", "simulation"], "null", "holds no simulation"),
         (vec!["mode"], "\"StepFailed\"", "never enters"),
         (
