@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 /// Energy that enters or leaves the plate over one step, or summed over steps (J), such that the
 /// discrete energy changes by `base_work + load_work − contact_loss − damping_loss`
-/// (docs/scheme-damping-energy.md derives each term from the scheme).
+/// (docs/scheme.md §12 derives each term from the scheme).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyFlows {
     /// Work of the force the base supplies: ½(z_{n+1} − z_{n−1}) G_n.
