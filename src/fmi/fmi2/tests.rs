@@ -744,7 +744,7 @@ fn damping_parameters_reach_the_scheme() {
         inst.do_step(inst.time(), 1e-3).unwrap();
         for sim in [&mut library, &mut undamped] {
             let end = sim.step_end(1e-3).unwrap();
-            sim.advance(&end, &InputSample::default(), &mut |_| {})
+            sim.advance(&end, &InputSample::default(), false, &mut |_| {})
                 .unwrap();
         }
     }

@@ -348,7 +348,7 @@ impl Model for PlateModel {
             }
         }
         let mut observer = |step: &InternalStep| report_internal_step(log, step);
-        let summary = sim.advance(&end, &sample, &mut observer);
+        let summary = sim.advance(&end, &sample, false, &mut observer);
         let at = sim.time();
         let summary = summary.map_err(|e| {
             Failure::broken(format!(
