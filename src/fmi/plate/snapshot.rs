@@ -3,7 +3,7 @@
 use super::{check_experiment, values, TIME_TOLERANCE};
 use crate::fmi::model::Phase;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{Causality, VARIABLES};
+use crate::fmi::variables::{Causality, FMI2};
 use crate::scene::Scene;
 use crate::simulation::grid::TimeGrid;
 use crate::simulation::SimulationState;
@@ -43,7 +43,8 @@ impl PlateSnapshot {
     /// codes, vertices inside the obstacles) are checked when it is restored.
     pub fn validate(&self, phase: Phase) -> Result<(), Failure> {
         let mut rebuilt = Scene::default();
-        for v in VARIABLES
+        for v in FMI2
+            .variables
             .iter()
             .filter(|v| v.causality == Causality::Parameter)
         {
