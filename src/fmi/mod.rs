@@ -21,7 +21,7 @@ pub mod c_api;
 pub mod call_state;
 pub mod ffi;
 pub mod fmi2;
-
+pub mod fmi3;
 pub mod instance;
 pub mod logger;
 pub mod model;
