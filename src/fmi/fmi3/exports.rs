@@ -81,6 +81,20 @@ pub type fmi3LockPreemptionCallback = Option<unsafe extern "C" fn()>;
 /// See [`fmi3LockPreemptionCallback`].
 pub type fmi3UnlockPreemptionCallback = Option<unsafe extern "C" fn()>;
 
+// The sizes fmi3PlatformTypes.h gives its types (the names are checked against the header by
+// tests/fmu/test_fmi3_abi.py, the sizes here).
+const _: () = {
+    use std::mem::size_of;
+    assert!(size_of::<fmi3ValueReference>() == 4 && size_of::<fmi3Float32>() == 4);
+    assert!(size_of::<fmi3Float64>() == 8 && size_of::<fmi3Int8>() == 1);
+    assert!(size_of::<fmi3UInt8>() == 1 && size_of::<fmi3Int16>() == 2);
+    assert!(size_of::<fmi3UInt16>() == 2 && size_of::<fmi3Int32>() == 4);
+    assert!(size_of::<fmi3UInt32>() == 4 && size_of::<fmi3Int64>() == 8);
+    assert!(size_of::<fmi3UInt64>() == 8 && size_of::<fmi3Boolean>() == 1);
+    assert!(size_of::<fmi3Byte>() == 1 && size_of::<fmi3Clock>() == 1);
+    assert!(size_of::<fmi3Status>() == size_of::<c_int>());
+};
+
 const ERROR: fmi3Status = Status::Error as fmi3Status;
 
 /// Why the functions of Event Mode are refused.
