@@ -249,6 +249,22 @@ impl Host {
         }
     }
 
+    /// Takes the FMU state and sets it again: the status of fmi2SetFMUstate, or None when no
+    /// state can be taken.
+    fn restore_own_state(&self) -> Option<fmi2Status> {
+        let c = self.c;
+        let mut s: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY: `s` is null or a live state of this instance, freed once.
+        unsafe {
+            if fmi2GetFMUstate(c, &mut s) != OK {
+                return None;
+            }
+            let status = fmi2SetFMUstate(c, s);
+            fmi2FreeFMUstate(c, &mut s);
+            Some(status)
+        }
+    }
+
     /// Runs one operation; returns its status.
     fn run(&mut self, op: &Op) -> fmi2Status {
         let c = self.c;
@@ -420,6 +436,11 @@ proptest! {
             let status = host.run(op);
             let after = host.observe();
             let context = format!("call {i}: {op:?} -> {status}");
+            // Every state the FMU gives can be set again, and setting it changes nothing.
+            if let Some(restored) = host.restore_own_state() {
+                prop_assert_eq!(restored, OK, "{}: its own FMU state was refused", context);
+                prop_assert_eq!(&host.observe(), &after, "{}: setting its own FMU state", context);
+            }
             steps += usize::from(matches!(op, Op::DoStep(..)) && status == OK);
             match status {
                 OK | 1 => outputs_are_sound(&after, bounds(&host))

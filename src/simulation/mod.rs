@@ -96,20 +96,28 @@ pub struct SimulationState {
     pub contact_ahead: ContactSummary,
 }
 
-/// How far past an obstacle a vertex may lie, as a fraction of the gap (of 1 m with one obstacle),
+/// How far past an obstacle a vertex may lie, as a fraction of the gap ([`bound_tolerance`]),
 /// before a state counts as a contact problem that was not solved: the dynamic steps are exact to
 /// round-off (at most 7e-11 of the gap measured, on the clarabel path), and the static preload
 /// problem, solved by clarabel alone, lay up to 9e-9 of the gap past an obstacle for a plate as soft
-/// as E = 1e-4 Pa.
+/// as E = 1e-4 Pa. Every impact law keeps every level within the obstacles (the paper's bounds
+/// u_{n+1} ∈ [g1, g2] for e = 0, Newton's law's bounds between u_n and u_{n−1} for e > 0), so the
+/// same tolerance holds for every e.
 pub const BOUND_TOLERANCE: f64 = 1e-7;
+
+/// [`BOUND_TOLERANCE`] × gap (m), the gap being g2 − g1 with a disabled obstacle counted at ±1 m
+/// (so 1 + g2 or 1 − g1 with one obstacle, 2 m with none).
+pub fn bound_tolerance(scene: &Scene) -> f64 {
+    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+    BOUND_TOLERANCE * (upper.unwrap_or(1.0) - lower.unwrap_or(-1.0))
+}
 
 /// Refuses an initial state with a vertex past an obstacle (a static preload problem that was not
 /// solved accurately), naming the vertex position and the obstacle.
 fn check_initial_state(stepper: &Stepper) -> Result<(), Error> {
     let scene = stepper.scene();
     let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let gap = upper.unwrap_or(1.0) - lower.unwrap_or(-1.0);
-    let tolerance = BOUND_TOLERANCE * gap;
+    let tolerance = bound_tolerance(scene);
     for u in stepper.constrained_displacements() {
         let past = |g: Option<f64>, below: bool| {
             g.filter(|&g| {
@@ -151,7 +159,21 @@ pub struct Simulation {
 impl Simulation {
     /// Sets the scene up (assembly, backend, static preload) at t_start = `start_time` (s), with
     /// the external base displacement `external_base` (m) there.
+    /// Refused for a time step whose square overflows (above about 1.3e154 s): the scheme's
+    /// matrices and forces scale with Δt², so nothing of such a step would be finite, and a saved
+    /// state could not be checked.
     pub fn new(scene: &Scene, start_time: f64, external_base: f64) -> Result<Simulation, Error> {
+        let dt = scene.solver.time_step;
+        if !(dt * dt).is_finite() {
+            return Err(Error::InvalidParameter {
+                name: "solver.time_step".into(),
+                value: format!("{dt} s"),
+                limit: format!(
+                    "its square must be finite (at most {:e} s): the scheme's matrices scale with it",
+                    f64::MAX.sqrt()
+                ),
+            });
+        }
         let z0 = scene.builtin_base(0.0) + external_base;
         let stepper = Stepper::new(scene, z0)?;
         check_initial_state(&stepper)?;
@@ -590,6 +612,18 @@ mod tests {
         let err = sim.restore(&far).unwrap_err().to_string();
         assert!(err.contains("too coarse"), "{err}");
         assert_eq!(sim.state(), good, "a refused restore changes nothing");
+    }
+
+    /// A time step whose square overflows is refused at set-up, naming the parameter; the largest
+    /// one whose square is finite is accepted.
+    #[test]
+    fn a_time_step_whose_square_overflows_is_refused() {
+        let mut scene = small(Scene::default());
+        scene.solver.time_step = 1e155;
+        let err = Simulation::new(&scene, 0.0, 0.0).err().unwrap();
+        assert!(err.to_string().contains("solver.time_step"), "{err}");
+        scene.solver.time_step = 1e154;
+        assert!(Simulation::new(&scene, 0.0, 0.0).is_ok());
     }
 
     #[test]

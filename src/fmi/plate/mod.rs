@@ -30,8 +30,18 @@ use values::{first_non_finite, first_past_obstacle};
 /// Log category of contact events: vertices entering or leaving contact, and the solver path.
 pub const LOG_CONTACT: &str = "logContact";
 
-/// Relative tolerance between the host's communication point and the FMU time.
+/// Relative tolerance between the host's communication point and the FMU time, and between the
+/// end of a step and the stop time.
 const TIME_TOLERANCE: f64 = 1e-9;
+
+/// Whether a communication time `now` lies beyond the stop time `stop` of an experiment that
+/// starts at `start` with internal step `dt`: now > stop + 1e-9·max(|stop|, stop − start, Δt),
+/// forgiving a host's round-off in t + h relative to the experiment's scale (any step of it has
+/// h ≤ stop − start). fmi2DoStep refuses such a step and a restored FMU state such a time with
+/// this one rule, so that every state a step reaches can be restored.
+fn beyond_stop_time(now: f64, start: f64, stop: f64, dt: f64) -> bool {
+    now > stop + TIME_TOLERANCE * stop.abs().max(stop - start).max(dt)
+}
 
 /// The staged values of a set: the parameters and the input.
 pub struct Draft {
@@ -422,7 +432,7 @@ impl Model for PlateModel {
         })?;
         let end_time = grid.start + end.elapsed(grid);
         if let Some(stop) = stop_time {
-            if end_time > stop + TIME_TOLERANCE * stop.abs().max(h) {
+            if beyond_stop_time(end_time, grid.start, stop, grid.step) {
                 return Err(Failure::refused(format!(
                     "the step to t = {end_time} s goes beyond stopTime = {stop} s set by fmi2SetupExperiment"
                 )));

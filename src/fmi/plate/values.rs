@@ -10,7 +10,7 @@ use crate::fmi::status::Failure;
 use crate::fmi::variables::{vr, Kind, Variable, FMI2};
 use crate::scene::Scene;
 use crate::simulation::contact_summary::ContactSummary;
-use crate::simulation::{Outputs, BOUND_TOLERANCE};
+use crate::simulation::{bound_tolerance, Outputs};
 
 /// The integer code of `mesh.element` for each element family.
 pub fn element_code(kind: ElementKind) -> i32 {
@@ -197,14 +197,12 @@ pub fn first_non_finite(
 }
 
 /// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
-/// more than [`BOUND_TOLERANCE`] of the gap, as (variable name, value, obstacle level). With
-/// restitution e > 0 the bound holds for (u_{n+1} + e u_{n−1})/(1 + e), not for u: no check then.
+/// more than [`bound_tolerance`] (a fraction of the gap), as (variable name, value, obstacle
+/// level). Every impact law keeps every level within the obstacles, so the check holds for every
+/// restitution e.
 pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static str, f64, f64)> {
-    if scene.solver.restitution != 0.0 {
-        return None;
-    }
     let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let tolerance = BOUND_TOLERANCE * (upper.unwrap_or(1.0) - lower.unwrap_or(-1.0));
+    let tolerance = bound_tolerance(scene);
     [
         ("corner1.displacement", outputs.corner1),
         ("corner2.displacement", outputs.corner2),
