@@ -1,8 +1,9 @@
 //! What the call-state tables of both FMI versions share (modelica Reference-FMUs keep one mask
 //! of allowed states per function): a version lists its states ([`CallState`]) and, for every
 //! function that takes an instance, the states in which it may be called ([`CallTable`]). Every
-//! entry point looks its function up once, before it does anything else, and a refusal names
-//! the state and the states that would allow the call.
+//! entry point looks its function up once, before it reads or changes anything of the instance
+//! (only its pointer arguments are checked first: a null one is refused in every state), and a
+//! refusal names the state and the states that would allow the call.
 
 use super::model::Phase;
 use std::fmt::Debug;

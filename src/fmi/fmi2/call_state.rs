@@ -1,7 +1,7 @@
 //! The FMI 2.0 Co-Simulation call-state machine as one table: for every function, the mask of
 //! states in which it may be called (FMI 2.0.x, "State Machine of Calling Sequence from Master to
-//! Slave"). Every entry point looks its function up once, before it does anything else
-//! ([`crate::fmi::call_state`]).
+//! Slave"). Every entry point looks its function up once, before it reads or changes anything
+//! of the instance ([`crate::fmi::call_state`]).
 
 use crate::fmi::call_state::{CallState, CallTable};
 use crate::fmi::model::Phase;

@@ -1,8 +1,8 @@
 //! The FMI 3.0 Co-Simulation call-state machine as one table: for every function that takes an
 //! instance, the mask of states in which it may be called (FMI 3.0.2, "State Machine and
 //! Semantics" for the common states, "State Machine for Co-Simulation" for Step and Intermediate
-//! Update Mode). Every entry point looks its function up once, before it does anything else
-//! ([`crate::fmi::call_state`]).
+//! Update Mode). Every entry point looks its function up once, before it reads or changes
+//! anything of the instance ([`crate::fmi::call_state`]).
 //!
 //! Read from the standard: the functions of the super state *FMU State Settable* (set debug
 //! logging, reset, the FMU state functions) are allowed in Instantiated, Initialization, Event,
