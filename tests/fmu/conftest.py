@@ -154,21 +154,32 @@ class Plate:
         self.fmu.freeInstance()
 
 
-@pytest.fixture
-def new_plate(unzipdir, model_description):
+def instances(kind, unzipdir, model_description):
+    """A factory of `kind` instances (Plate or Plate3) for a fixture, and a finalizer freeing
+    every instance it made (ignoring those a test already freed)."""
     made = []
 
-    def make(name="plate", logging_on=False):
-        p = Plate(unzipdir, model_description, name, logging_on)
+    def make(*args, **kwargs):
+        p = kind(unzipdir, model_description, *args, **kwargs)
         made.append(p)
         return p
 
+    def free_all():
+        for p in made:
+            try:
+                p.free()
+            except Exception:
+                pass
+
+    return make, free_all
+
+
+@pytest.fixture
+def new_plate(unzipdir, model_description):
+    """Plate(name="plate", logging_on=False) instances, freed after the test."""
+    make, free_all = instances(Plate, unzipdir, model_description)
     yield make
-    for p in made:
-        try:
-            p.free()
-        except Exception:
-            pass
+    free_all()
 
 
 class Plate3:
@@ -229,16 +240,7 @@ class Plate3:
 
 @pytest.fixture
 def new_plate3(unzipdir3, model_description3):
-    made = []
-
-    def make(name="plate", early_return=False):
-        p = Plate3(unzipdir3, model_description3, name, early_return)
-        made.append(p)
-        return p
-
+    """Plate3(name="plate", early_return=False) instances, freed after the test."""
+    make, free_all = instances(Plate3, unzipdir3, model_description3)
     yield make
-    for p in made:
-        try:
-            p.free()
-        except Exception:
-            pass
+    free_all()
