@@ -8,6 +8,26 @@
 use super::model::Phase;
 use std::fmt::Debug;
 
+/// Declares a version's `Function` enum (one variant per function that takes an instance, named
+/// without the version prefix) and its list `Function::ALL`, in the order given, from one list
+/// of names; the attributes given first document the enum.
+macro_rules! call_functions {
+    ($(#[$attr:meta])* ; $($name:ident,)*) => {
+        $(#[$attr])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        #[allow(missing_docs)]
+        pub enum Function {
+            $($name,)*
+        }
+
+        impl Function {
+            /// Every function, in the order given.
+            pub const ALL: &[Function] = &[$(Function::$name,)*];
+        }
+    };
+}
+pub(crate) use call_functions;
+
 /// The states of a version's Co-Simulation state machine.
 pub trait CallState: Copy + Debug + PartialEq + 'static {
     /// Every state, in the standard's column order.

@@ -3,7 +3,7 @@
 //! Slave"). Every entry point looks its function up once, before it reads or changes anything
 //! of the instance ([`crate::fmi::call_state`]).
 
-use crate::fmi::call_state::{CallState, CallTable};
+use crate::fmi::call_state::{call_functions, CallState, CallTable};
 use crate::fmi::model::Phase;
 use serde::{Deserialize, Serialize};
 
@@ -70,26 +70,12 @@ impl Mode {
     }
 }
 
-/// Declares [`Function`] and its list [`Function::ALL`] from one list of names.
-macro_rules! functions {
-    ($($name:ident,)*) => {
-        /// The FMI 2.0 functions that take an instance and return a status (fmi2FreeInstance
-        /// always frees; fmi2GetTypesPlatform, fmi2GetVersion and fmi2Instantiate take no
-        /// instance). Each is `fmi2` followed by its name.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-        #[allow(missing_docs)]
-        pub enum Function {
-            $($name,)*
-        }
-
-        impl Function {
-            /// Every function, in the standard's order.
-            pub const ALL: &[Function] = &[$(Function::$name,)*];
-        }
-    };
-}
-
-functions! {
+call_functions! {
+    /// The FMI 2.0 functions that take an instance and return a status (fmi2FreeInstance
+    /// always frees; fmi2GetTypesPlatform, fmi2GetVersion and fmi2Instantiate take no
+    /// instance). Each is `fmi2` followed by its name.
+    /// `Function::ALL` lists them in the standard's order.
+    ;
     SetDebugLogging,
     SetupExperiment,
     EnterInitializationMode,

@@ -12,7 +12,7 @@
 //! functions are not allowed in Co-Simulation; the dependency queries, for which the standard
 //! names no state, are allowed where the FMU state functions are. fmi3FreeInstance always frees.
 
-use crate::fmi::call_state::{CallState, CallTable};
+use crate::fmi::call_state::{call_functions, CallState, CallTable};
 use crate::fmi::model::Phase;
 use serde::{Deserialize, Serialize};
 
@@ -78,26 +78,12 @@ impl Mode {
     }
 }
 
-/// Declares [`Function`] and its list [`Function::ALL`] from one list of names.
-macro_rules! functions {
-    ($($name:ident,)*) => {
-        /// The FMI 3.0 functions that take an instance and return a status (fmi3FreeInstance
-        /// always frees; fmi3GetVersion and the instantiation functions take no instance). Each
-        /// is `fmi3` followed by its name.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-        #[allow(missing_docs)]
-        pub enum Function {
-            $($name,)*
-        }
-
-        impl Function {
-            /// Every function, in the order of `fmi3Functions.h`.
-            pub const ALL: &[Function] = &[$(Function::$name,)*];
-        }
-    };
-}
-
-functions! {
+call_functions! {
+    /// The FMI 3.0 functions that take an instance and return a status (fmi3FreeInstance
+    /// always frees; fmi3GetVersion and the instantiation functions take no instance). Each
+    /// is `fmi3` followed by its name.
+    /// `Function::ALL` lists them in `fmi3Functions.h`'s order.
+    ;
     SetDebugLogging,
     EnterInitializationMode,
     ExitInitializationMode,
