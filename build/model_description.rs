@@ -1,8 +1,13 @@
-//! Reads and checks `modelDescription/modelDescription.xml` and generates the Rust variable table.
+//! Reads and checks the hand-kept model descriptions (`modelDescription/modelDescription.xml`, FMI
+//! 2.0, and `modelDescription/modelDescription-fmi3.xml`, FMI 3.0) and generates the Rust variable
+//! tables.
 //!
 //! Shared by `build.rs` (which fails the build on the first inconsistency) and by the test
 //! `tests/model_description_checker.rs` (which feeds it broken descriptions). It uses only
-//! quick-xml + serde, so that it runs at build time without the crate itself.
+//! quick-xml + serde, so that it runs at build time without the crate itself. Each version is
+//! parsed into the same [`Variable`] rows and checked by the same rules where FMI 2.0 and 3.0
+//! agree ([`check_variable`]); `model_description_fmi3.rs` adds what only FMI 3.0 has and the
+//! comparison of the two descriptions.
 
 use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -31,22 +36,53 @@ struct Root {
     model_structure: ModelStructure,
 }
 
+/// The attributes of `<CoSimulation>` that the checks compare, kept as text.
 #[derive(Debug, Deserialize)]
-struct CoSimulation {
+pub struct CoSimulation {
     #[serde(rename = "@modelIdentifier")]
-    model_identifier: String,
+    pub model_identifier: String,
+    #[serde(rename = "@canHandleVariableCommunicationStepSize")]
+    pub can_handle_variable_communication_step_size: Option<String>,
+    #[serde(rename = "@maxOutputDerivativeOrder")]
+    pub max_output_derivative_order: Option<String>,
+    /// FMI 2.0 spelling.
+    #[serde(rename = "@canGetAndSetFMUstate")]
+    pub can_get_and_set_fmu_state_2: Option<String>,
+    /// FMI 2.0 spelling.
+    #[serde(rename = "@canSerializeFMUstate")]
+    pub can_serialize_fmu_state_2: Option<String>,
+    /// FMI 3.0 spelling.
+    #[serde(rename = "@canGetAndSetFMUState")]
+    pub can_get_and_set_fmu_state_3: Option<String>,
+    /// FMI 3.0 spelling.
+    #[serde(rename = "@canSerializeFMUState")]
+    pub can_serialize_fmu_state_3: Option<String>,
+    /// FMI 2.0.
+    #[serde(rename = "@providesDirectionalDerivative")]
+    pub provides_directional_derivative: Option<String>,
+    /// FMI 3.0.
+    #[serde(rename = "@providesDirectionalDerivatives")]
+    pub provides_directional_derivatives: Option<String>,
+    #[serde(rename = "@fixedInternalStepSize")]
+    pub fixed_internal_step_size: Option<String>,
+    #[serde(rename = "@hasEventMode")]
+    pub has_event_mode: Option<String>,
+    #[serde(rename = "@providesIntermediateUpdate")]
+    pub provides_intermediate_update: Option<String>,
+    #[serde(rename = "@canReturnEarlyAfterIntermediateUpdate")]
+    pub can_return_early_after_intermediate_update: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
-struct UnitDefinitions {
+pub(crate) struct UnitDefinitions {
     #[serde(rename = "Unit", default)]
-    units: Vec<Named>,
+    pub units: Vec<Named>,
 }
 
 #[derive(Debug, Deserialize)]
-struct Named {
+pub(crate) struct Named {
     #[serde(rename = "@name")]
-    name: String,
+    pub name: String,
 }
 
 #[derive(Debug, Deserialize)]
@@ -78,13 +114,13 @@ struct Item {
 }
 
 #[derive(Debug, Deserialize)]
-struct LogCategories {
+pub(crate) struct LogCategories {
     #[serde(rename = "Category", default)]
-    categories: Vec<Named>,
+    pub categories: Vec<Named>,
 }
 
 #[derive(Debug, Deserialize)]
-struct DefaultExperiment {
+pub(crate) struct DefaultExperiment {
     #[serde(rename = "@startTime")]
     start_time: Option<f64>,
     #[serde(rename = "@stopTime")]
@@ -105,6 +141,8 @@ struct ScalarVariable {
     name: String,
     #[serde(rename = "@valueReference")]
     value_reference: u32,
+    #[serde(rename = "@description")]
+    description: Option<String>,
     #[serde(rename = "@causality")]
     causality: Option<String>,
     #[serde(rename = "@variability")]
@@ -124,18 +162,18 @@ struct ScalarVariable {
 }
 
 /// The attributes of the type element of a variable, all kept as text and parsed by kind.
-#[derive(Debug, Deserialize)]
-struct TypeAttrs {
+#[derive(Debug, Default, Deserialize)]
+pub(crate) struct TypeAttrs {
     #[serde(rename = "@start")]
-    start: Option<String>,
+    pub start: Option<String>,
     #[serde(rename = "@min")]
-    min: Option<String>,
+    pub min: Option<String>,
     #[serde(rename = "@max")]
-    max: Option<String>,
+    pub max: Option<String>,
     #[serde(rename = "@unit")]
-    unit: Option<String>,
+    pub unit: Option<String>,
     #[serde(rename = "@declaredType")]
-    declared_type: Option<String>,
+    pub declared_type: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -158,11 +196,13 @@ struct Unknown {
     index: usize,
 }
 
-/// Variable kinds, as the Rust table names them.
+/// Variable kinds, as the Rust table names them: `Real` is fmi2Real and fmi3Float64, `Integer`
+/// fmi2Integer and fmi3Int32.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
     Real,
     Integer,
+    UInt64,
     Boolean,
     String,
     Enumeration,
@@ -177,31 +217,72 @@ pub enum Start {
     String(String),
 }
 
+/// The size of one dimension of an array variable (FMI 3.0 `<Dimension>`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dimension {
+    /// `start`: a fixed size.
+    Fixed(u64),
+    /// `valueReference`: the value of that structural parameter or constant.
+    Variable(u32),
+}
+
+/// One variable as read from either version, before its checks.
+pub(crate) struct RawVariable {
+    pub name: String,
+    pub value_reference: u32,
+    pub description: Option<String>,
+    pub kind: Kind,
+    pub causality: Option<String>,
+    pub variability: Option<String>,
+    pub initial: Option<String>,
+    pub attrs: TypeAttrs,
+    pub dimensions: Vec<Dimension>,
+    pub intermediate_update: bool,
+}
+
 /// One checked variable.
 #[derive(Clone, Debug)]
 pub struct Variable {
     pub name: String,
     pub value_reference: u32,
+    pub description: Option<String>,
     pub kind: Kind,
     pub causality: String,
     pub variability: String,
     pub initial: Option<String>,
     pub start: Option<Start>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub unit: Option<String>,
+    pub dimensions: Vec<Dimension>,
+    pub intermediate_update: bool,
 }
 
-/// The checked model description: what the Rust code needs.
-#[derive(Clone, Debug)]
+/// The checked model description: what the Rust code needs, and what the two descriptions are
+/// compared on.
+#[derive(Debug)]
 pub struct Model {
+    pub fmi_version: String,
+    pub model_name: String,
     pub model_identifier: String,
-    pub guid: String,
+    /// `guid` (FMI 2.0) or `instantiationToken` (FMI 3.0).
+    pub token: String,
     pub log_categories: Vec<String>,
     pub default_start_time: f64,
     pub default_stop_time: f64,
     pub default_step_size: f64,
+    pub co_simulation: CoSimulation,
     pub variables: Vec<Variable>,
 }
 
-fn is_structured_name(name: &str) -> bool {
+impl Model {
+    /// The variable named `name`.
+    pub fn by_name(&self, name: &str) -> Option<&Variable> {
+        self.variables.iter().find(|v| v.name == name)
+    }
+}
+
+pub(crate) fn is_structured_name(name: &str) -> bool {
     !name.is_empty()
         && name.split('.').all(|part| {
             let mut chars = part.chars();
@@ -210,13 +291,13 @@ fn is_structured_name(name: &str) -> bool {
         })
 }
 
+/// The `initial` values allowed for a causality and variability, and the default `initial`.
+pub(crate) type Initials = (Vec<&'static str>, Option<&'static str>);
+
 /// The `initial` values FMI 2.0 (§2.2.7, table of causality × variability) allows, and the
 /// default; `None` means the combination itself is illegal, `Some((vec![], _))` that no `initial`
 /// may be given.
-fn allowed_initial(
-    causality: &str,
-    variability: &str,
-) -> Option<(Vec<&'static str>, Option<&'static str>)> {
+fn allowed_initial(causality: &str, variability: &str) -> Option<Initials> {
     match (causality, variability) {
         ("parameter", "fixed" | "tunable") => Some((vec!["exact"], Some("exact"))),
         ("calculatedParameter", "fixed" | "tunable") => {
@@ -237,7 +318,238 @@ fn allowed_initial(
     }
 }
 
-/// Parses and checks a model description; the error names the variable (or element) at fault.
+/// The rules of one FMI version that [`check_variable`] applies.
+pub(crate) struct Rules {
+    /// "FMI 2.0" or "FMI 3.0", for messages.
+    pub version: &'static str,
+    /// The allowed `initial` values and the default for a causality and variability (see
+    /// [`allowed_initial`]).
+    pub allowed_initial: fn(&str, &str) -> Option<Initials>,
+    /// Whether an input needs a start value.
+    pub input_needs_start: bool,
+    /// The variability of a variable that declares none, by causality and kind.
+    pub default_variability: fn(&str, Kind) -> &'static str,
+}
+
+/// FMI 2.0's rules.
+const FMI2_RULES: Rules = Rules {
+    version: "FMI 2.0",
+    allowed_initial,
+    input_needs_start: true,
+    default_variability: |_, kind| {
+        if kind == Kind::Real {
+            "continuous"
+        } else {
+            "discrete"
+        }
+    },
+};
+
+/// What every variable of every description must satisfy: a structured name used once, a value
+/// reference used once, a legal causality × variability × initial for `rules`, a start value
+/// exactly when one is required, within [min, max], a declared unit on every Real except the
+/// independent variable, enumeration starts among the items. `units` and `enums` are the
+/// description's unit names and enumeration types; `names` and `refs` collect what was seen.
+pub(crate) fn check_variable(
+    v: RawVariable,
+    rules: &Rules,
+    units: &BTreeSet<String>,
+    enums: &BTreeMap<String, Vec<i64>>,
+    names: &mut BTreeSet<String>,
+    refs: &mut BTreeMap<u32, String>,
+) -> Result<Variable, String> {
+    let who = format!(
+        "variable {:?} (valueReference {})",
+        v.name, v.value_reference
+    );
+    if !is_structured_name(&v.name) {
+        return Err(format!("{who}: name is not a structured FMI name"));
+    }
+    if !names.insert(v.name.clone()) {
+        return Err(format!("{who}: the name is declared twice"));
+    }
+    if let Some(other) = refs.insert(v.value_reference, v.name.clone()) {
+        return Err(format!("{who}: valueReference already used by {other:?}"));
+    }
+    let kind = v.kind;
+    let attrs = &v.attrs;
+    let causality = v.causality.clone().unwrap_or_else(|| "local".into());
+    let variability = v
+        .variability
+        .clone()
+        .unwrap_or_else(|| (rules.default_variability)(&causality, kind).into());
+    if variability == "continuous" && kind != Kind::Real {
+        return Err(format!("{who}: only Real variables may be continuous"));
+    }
+    let version = rules.version;
+    let (allowed, default_initial) = (rules.allowed_initial)(&causality, &variability)
+        .ok_or_else(|| {
+            format!("{who}: causality {causality:?} with variability {variability:?} is not allowed by {version}")
+        })?;
+    let initial = match &v.initial {
+        Some(i) if allowed.contains(&i.as_str()) => Some(i.clone()),
+        Some(i) => {
+            return Err(format!(
+                "{who}: initial {i:?} is not allowed for causality {causality:?} / variability {variability:?} (allowed: {allowed:?})"
+            ))
+        }
+        None => default_initial.map(String::from),
+    };
+    let needs_start = (causality == "input" && rules.input_needs_start)
+        || matches!(initial.as_deref(), Some("exact") | Some("approx"));
+    let start = match (&attrs.start, needs_start) {
+        (None, true) => return Err(format!("{who}: a start value is required")),
+        (Some(_), false) => {
+            return Err(format!(
+                "{who}: a start value is not allowed with initial {initial:?}"
+            ))
+        }
+        (None, false) => None,
+        (Some(s), true) => Some(parse_start(&who, kind, s)?),
+    };
+    if let Some(unit) = &attrs.unit {
+        if kind != Kind::Real {
+            return Err(format!("{who}: only Real variables carry a unit"));
+        }
+        if !units.contains(unit) {
+            return Err(format!("{who}: unit {unit:?} is not in <UnitDefinitions>"));
+        }
+    } else if kind == Kind::Real && causality != "independent" {
+        return Err(format!(
+            "{who}: every Real variable must declare its unit (SI)"
+        ));
+    }
+    if kind == Kind::Enumeration {
+        let name = attrs
+            .declared_type
+            .as_ref()
+            .ok_or_else(|| format!("{who}: an Enumeration needs a declaredType"))?;
+        let items = enums
+            .get(name)
+            .ok_or_else(|| format!("{who}: declaredType {name:?} is not an enumeration type"))?;
+        if let Some(Start::Integer(s)) = start {
+            if !items.contains(&s) {
+                return Err(format!("{who}: start {s} is not an item of {name:?}"));
+            }
+        }
+    }
+    let bound = |b: &Option<String>, what: &str| -> Result<Option<f64>, String> {
+        b.as_ref()
+            .map(|b| {
+                b.trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|x| !x.is_nan())
+                    .ok_or_else(|| format!("{who}: {what} {b:?} is not a number"))
+            })
+            .transpose()
+    };
+    let (min, max) = (bound(&attrs.min, "min")?, bound(&attrs.max, "max")?);
+    if let (Some(lo), Some(hi)) = (min, max) {
+        if lo > hi {
+            return Err(format!("{who}: min {lo} > max {hi}"));
+        }
+    }
+    let start_number = match &start {
+        Some(Start::Real(x)) => Some(*x),
+        Some(Start::Integer(i)) => Some(*i as f64),
+        _ => None,
+    };
+    if let Some(x) = start_number {
+        if min.is_some_and(|lo| x < lo) || max.is_some_and(|hi| x > hi) {
+            return Err(format!(
+                "{who}: start {x} lies outside [min, max] = [{}, {}]",
+                min.map_or("-inf".into(), |m| m.to_string()),
+                max.map_or("inf".into(), |m| m.to_string())
+            ));
+        }
+    }
+    Ok(Variable {
+        name: v.name,
+        value_reference: v.value_reference,
+        description: v.description,
+        kind,
+        causality,
+        variability,
+        initial,
+        start,
+        min,
+        max,
+        unit: attrs.unit.clone(),
+        dimensions: v.dimensions,
+        intermediate_update: v.intermediate_update,
+    })
+}
+
+/// The unit names of `<UnitDefinitions>`.
+pub(crate) fn unit_names(units: Option<UnitDefinitions>) -> BTreeSet<String> {
+    units
+        .map(|u| u.units.into_iter().map(|u| u.name).collect())
+        .unwrap_or_default()
+}
+
+/// The category names of `<LogCategories>`.
+pub(crate) fn category_names(categories: Option<LogCategories>) -> Vec<String> {
+    categories
+        .map(|l| l.categories.into_iter().map(|c| c.name).collect())
+        .unwrap_or_default()
+}
+
+/// The model identifier of `<CoSimulation>`, checked to be a C identifier.
+pub(crate) fn co_simulation(cs: Option<CoSimulation>) -> Result<CoSimulation, String> {
+    let cs = cs.ok_or("no <CoSimulation> element: this FMU is Co-Simulation")?;
+    if !is_structured_name(&cs.model_identifier) || cs.model_identifier.contains('.') {
+        return Err(format!(
+            "modelIdentifier {:?} is not a C identifier",
+            cs.model_identifier
+        ));
+    }
+    Ok(cs)
+}
+
+/// `<DefaultExperiment>` startTime, stopTime and stepSize, checked.
+pub(crate) fn default_experiment(
+    experiment: Option<DefaultExperiment>,
+) -> Result<(f64, f64, f64), String> {
+    let experiment = experiment
+        .ok_or("no <DefaultExperiment>: importers need the default start, stop and step")?;
+    match (
+        experiment.start_time,
+        experiment.stop_time,
+        experiment.step_size,
+    ) {
+        (Some(a), Some(b), Some(h)) if a.is_finite() && b > a && h > 0.0 => Ok((a, b, h)),
+        other => Err(format!(
+            "DefaultExperiment needs startTime < stopTime and stepSize > 0, got {other:?}"
+        )),
+    }
+}
+
+/// The positions (from 0) of the outputs, and of the initial unknowns: the outputs and calculated
+/// parameters whose `initial` is neither exact nor approx; what `<ModelStructure>` must list, in
+/// this order.
+pub(crate) fn expected_structure(variables: &[Variable]) -> (Vec<usize>, Vec<usize>) {
+    let outputs = variables
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == "output")
+        .map(|(i, _)| i)
+        .collect();
+    let initial_unknowns = variables
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| {
+            (v.causality == "output" || v.causality == "calculatedParameter")
+                && v.initial.as_deref() != Some("exact")
+                && v.initial.as_deref() != Some("approx")
+        })
+        .map(|(i, _)| i)
+        .collect();
+    (outputs, initial_unknowns)
+}
+
+/// Parses and checks an FMI 2.0 model description; the error names the variable (or element) at
+/// fault.
 pub fn check(xml: &str) -> Result<Model, String> {
     let root: Root = quick_xml::de::from_str(xml).map_err(|e| format!("cannot parse: {e}"))?;
     if root.fmi_version != "2.0" {
@@ -249,20 +561,9 @@ pub fn check(xml: &str) -> Result<Model, String> {
     if root.model_name.is_empty() {
         return Err("modelName is empty".into());
     }
-    let cs = root
-        .co_simulation
-        .ok_or("no <CoSimulation> element: this FMU is Co-Simulation")?;
-    if !is_structured_name(&cs.model_identifier) || cs.model_identifier.contains('.') {
-        return Err(format!(
-            "modelIdentifier {:?} is not a C identifier",
-            cs.model_identifier
-        ));
-    }
-    let units: BTreeSet<String> = root
-        .unit_definitions
-        .map(|u| u.units.into_iter().map(|u| u.name).collect())
-        .unwrap_or_default();
-    let mut enums: BTreeMap<String, Vec<Item>> = BTreeMap::new();
+    let cs = co_simulation(root.co_simulation)?;
+    let units = unit_names(root.unit_definitions);
+    let mut enums: BTreeMap<String, Vec<i64>> = BTreeMap::new();
     for t in root
         .type_definitions
         .map(|t| t.simple_types)
@@ -281,165 +582,52 @@ pub fn check(xml: &str) -> Result<Model, String> {
                     ));
                 }
             }
-            enums.insert(t.name, e.items);
+            enums.insert(t.name, e.items.iter().map(|i| i.value).collect());
         }
     }
-    let log_categories: Vec<String> = root
-        .log_categories
-        .map(|l| l.categories.into_iter().map(|c| c.name).collect())
-        .unwrap_or_default();
-    let experiment = root
-        .default_experiment
-        .ok_or("no <DefaultExperiment>: importers need the default start, stop and step")?;
-    let (start_time, stop_time, step_size) = match (
-        experiment.start_time,
-        experiment.stop_time,
-        experiment.step_size,
-    ) {
-        (Some(a), Some(b), Some(h)) if a.is_finite() && b > a && h > 0.0 => (a, b, h),
-        other => {
-            return Err(format!(
-                "DefaultExperiment needs startTime < stopTime and stepSize > 0, got {other:?}"
-            ))
-        }
-    };
+    let log_categories = category_names(root.log_categories);
+    let (start_time, stop_time, step_size) = default_experiment(root.default_experiment)?;
 
     let mut names = BTreeSet::new();
     let mut refs = BTreeMap::new();
     let mut variables = Vec::new();
     for v in root.model_variables.variables {
-        let who = format!(
-            "variable {:?} (valueReference {})",
-            v.name, v.value_reference
-        );
-        if !is_structured_name(&v.name) {
-            return Err(format!("{who}: name is not a structured FMI name"));
-        }
-        if !names.insert(v.name.clone()) {
-            return Err(format!("{who}: the name is declared twice"));
-        }
-        if let Some(other) = refs.insert(v.value_reference, v.name.clone()) {
-            return Err(format!("{who}: valueReference already used by {other:?}"));
-        }
-        let typed: Vec<(Kind, &TypeAttrs)> = [
-            (Kind::Real, &v.real),
-            (Kind::Integer, &v.integer),
-            (Kind::Boolean, &v.boolean),
-            (Kind::String, &v.string),
-            (Kind::Enumeration, &v.enumeration),
+        let typed: Vec<(Kind, TypeAttrs)> = [
+            (Kind::Real, v.real),
+            (Kind::Integer, v.integer),
+            (Kind::Boolean, v.boolean),
+            (Kind::String, v.string),
+            (Kind::Enumeration, v.enumeration),
         ]
         .into_iter()
-        .filter_map(|(k, a)| a.as_ref().map(|a| (k, a)))
+        .filter_map(|(k, a)| a.map(|a| (k, a)))
         .collect();
-        let (kind, attrs) = match typed.as_slice() {
-            [one] => *one,
-            _ => {
-                return Err(format!(
-                    "{who}: needs exactly one type element (Real, Integer, …)"
-                ))
-            }
-        };
-        let causality = v.causality.clone().unwrap_or_else(|| "local".into());
-        let variability = v.variability.clone().unwrap_or_else(|| {
-            if matches!(kind, Kind::Real) {
-                "continuous".into()
-            } else {
-                "discrete".into()
-            }
-        });
-        if variability == "continuous" && kind != Kind::Real {
-            return Err(format!("{who}: only Real variables may be continuous"));
-        }
-        let (allowed, default_initial) = allowed_initial(&causality, &variability).ok_or_else(|| {
-            format!("{who}: causality {causality:?} with variability {variability:?} is not allowed by FMI 2.0")
-        })?;
-        let initial = match &v.initial {
-            Some(i) if allowed.contains(&i.as_str()) => Some(i.clone()),
-            Some(i) => {
-                return Err(format!(
-                    "{who}: initial {i:?} is not allowed for causality {causality:?} / variability {variability:?} (allowed: {allowed:?})"
-                ))
-            }
-            None => default_initial.map(String::from),
-        };
-        let needs_start =
-            causality == "input" || matches!(initial.as_deref(), Some("exact") | Some("approx"));
-        let start = match (&attrs.start, needs_start) {
-            (None, true) => return Err(format!("{who}: a start value is required")),
-            (Some(_), false) => {
-                return Err(format!(
-                    "{who}: a start value is not allowed with initial {initial:?}"
-                ))
-            }
-            (None, false) => None,
-            (Some(s), true) => Some(parse_start(&who, kind, s)?),
-        };
-        if let Some(unit) = &attrs.unit {
-            if kind != Kind::Real {
-                return Err(format!("{who}: only Real variables carry a unit"));
-            }
-            if !units.contains(unit) {
-                return Err(format!("{who}: unit {unit:?} is not in <UnitDefinitions>"));
-            }
-        } else if kind == Kind::Real && causality != "independent" {
+        let Ok::<[_; 1], _>([(kind, attrs)]) = typed.try_into() else {
             return Err(format!(
-                "{who}: every Real variable must declare its unit (SI)"
+                "variable {:?} (valueReference {}): needs exactly one type element (Real, Integer, …)",
+                v.name, v.value_reference
             ));
-        }
-        if kind == Kind::Enumeration {
-            let name = attrs
-                .declared_type
-                .as_ref()
-                .ok_or_else(|| format!("{who}: an Enumeration needs a declaredType"))?;
-            let items = enums.get(name).ok_or_else(|| {
-                format!("{who}: declaredType {name:?} is not an enumeration type")
-            })?;
-            if let Some(Start::Integer(s)) = start {
-                if !items.iter().any(|i| i.value == s) {
-                    return Err(format!("{who}: start {s} is not an item of {name:?}"));
-                }
-            }
-        }
-        let bound = |b: &Option<String>, what: &str| -> Result<Option<f64>, String> {
-            b.as_ref()
-                .map(|b| {
-                    b.trim()
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| !x.is_nan())
-                        .ok_or_else(|| format!("{who}: {what} {b:?} is not a number"))
-                })
-                .transpose()
         };
-        let (min, max) = (bound(&attrs.min, "min")?, bound(&attrs.max, "max")?);
-        if let (Some(lo), Some(hi)) = (min, max) {
-            if lo > hi {
-                return Err(format!("{who}: min {lo} > max {hi}"));
-            }
-        }
-        let start_number = match &start {
-            Some(Start::Real(x)) => Some(*x),
-            Some(Start::Integer(i)) => Some(*i as f64),
-            _ => None,
-        };
-        if let Some(x) = start_number {
-            if min.is_some_and(|lo| x < lo) || max.is_some_and(|hi| x > hi) {
-                return Err(format!(
-                    "{who}: start {x} lies outside [min, max] = [{}, {}]",
-                    min.map_or("-inf".into(), |m| m.to_string()),
-                    max.map_or("inf".into(), |m| m.to_string())
-                ));
-            }
-        }
-        variables.push(Variable {
+        let raw = RawVariable {
             name: v.name,
             value_reference: v.value_reference,
+            description: v.description,
             kind,
-            causality,
-            variability,
-            initial,
-            start,
-        });
+            causality: v.causality,
+            variability: v.variability,
+            initial: v.initial,
+            attrs,
+            dimensions: Vec::new(),
+            intermediate_update: false,
+        };
+        variables.push(check_variable(
+            raw,
+            &FMI2_RULES,
+            &units,
+            &enums,
+            &mut names,
+            &mut refs,
+        )?);
     }
 
     // ModelStructure: <Outputs> lists exactly the outputs; <InitialUnknowns> every output with
@@ -450,29 +638,17 @@ pub fn check(xml: &str) -> Result<Model, String> {
             .unwrap_or_default()
     };
     let structure = root.model_structure;
+    let (outputs, initial_unknowns) = expected_structure(&variables);
+    let one_based =
+        |positions: Vec<usize>| -> Vec<usize> { positions.into_iter().map(|i| i + 1).collect() };
+    let (outputs_expected, initial_expected) = (one_based(outputs), one_based(initial_unknowns));
     let outputs_declared = list(&structure.outputs);
-    let outputs_expected: Vec<usize> = variables
-        .iter()
-        .enumerate()
-        .filter(|(_, v)| v.causality == "output")
-        .map(|(i, _)| i + 1)
-        .collect();
     if outputs_declared != outputs_expected {
         return Err(format!(
             "ModelStructure/Outputs lists indices {outputs_declared:?}, but the outputs are at {outputs_expected:?}"
         ));
     }
     let initial_declared = list(&structure.initial_unknowns);
-    let initial_expected: Vec<usize> = variables
-        .iter()
-        .enumerate()
-        .filter(|(_, v)| {
-            (v.causality == "output" || v.causality == "calculatedParameter")
-                && v.initial.as_deref() != Some("exact")
-                && v.initial.as_deref() != Some("approx")
-        })
-        .map(|(i, _)| i + 1)
-        .collect();
     if initial_declared != initial_expected {
         return Err(format!(
             "ModelStructure/InitialUnknowns lists indices {initial_declared:?}, but the calculated outputs are at {initial_expected:?}"
@@ -480,17 +656,20 @@ pub fn check(xml: &str) -> Result<Model, String> {
     }
 
     Ok(Model {
-        model_identifier: cs.model_identifier,
-        guid: root.guid,
+        fmi_version: root.fmi_version,
+        model_name: root.model_name,
+        model_identifier: cs.model_identifier.clone(),
+        token: root.guid,
         log_categories,
         default_start_time: start_time,
         default_stop_time: stop_time,
         default_step_size: step_size,
+        co_simulation: cs,
         variables,
     })
 }
 
-fn parse_start(who: &str, kind: Kind, s: &str) -> Result<Start, String> {
+pub(crate) fn parse_start(who: &str, kind: Kind, s: &str) -> Result<Start, String> {
     let bad = || format!("{who}: start {s:?} is not a valid {kind:?}");
     Ok(match kind {
         Kind::Real => {
@@ -500,7 +679,20 @@ fn parse_start(who: &str, kind: Kind, s: &str) -> Result<Start, String> {
             }
             Start::Real(x)
         }
-        Kind::Integer | Kind::Enumeration => Start::Integer(s.trim().parse().map_err(|_| bad())?),
+        Kind::Integer | Kind::Enumeration => {
+            let i: i64 = s.trim().parse().map_err(|_| bad())?;
+            if kind == Kind::Integer && i32::try_from(i).is_err() {
+                return Err(bad());
+            }
+            Start::Integer(i)
+        }
+        Kind::UInt64 => Start::Integer(
+            s.trim()
+                .parse::<u64>()
+                .ok()
+                .and_then(|u| i64::try_from(u).ok())
+                .ok_or_else(bad)?,
+        ),
         Kind::Boolean => Start::Boolean(match s.trim() {
             "true" | "1" => true,
             "false" | "0" => false,
@@ -514,39 +706,23 @@ fn const_name(variable: &str) -> String {
     variable.replace('.', "_").to_ascii_uppercase()
 }
 
-/// Rust source for `$OUT_DIR/model_description.rs`, included by `src/fmi/variables.rs`.
-pub fn generate(model: &Model) -> String {
-    let mut out = String::new();
-    out.push_str(
-        "// Generated by build.rs from modelDescription/modelDescription.xml. Do not edit.\n\n",
+/// The Rust source of one description's table: `pub const {name}: Description`.
+fn description_table(name: &str, model: &Model) -> String {
+    let mut out = format!(
+        "/// The FMI {} model description (`modelDescription.xml` of its FMU).\npub const {name}: Description = Description {{\n",
+        model.fmi_version
     );
+    out.push_str(&format!("    fmi_version: {:?},\n", model.fmi_version));
+    out.push_str(&format!("    token: {:?},\n", model.token));
     out.push_str(&format!(
-        "/// `modelIdentifier` of the Co-Simulation interface.\npub const MODEL_IDENTIFIER: &str = {:?};\n",
-        model.model_identifier
-    ));
-    out.push_str(&format!(
-        "/// `guid` of the model description; fmi2Instantiate checks the importer's against it.\npub const GUID: &str = {:?};\n",
-        model.guid
-    ));
-    out.push_str(&format!(
-        "/// The log categories declared in `<LogCategories>`.\npub const LOG_CATEGORIES: &[&str] = &{:?};\n",
+        "    log_categories: &{:?},\n",
         model.log_categories
     ));
     out.push_str(&format!(
-        "/// `<DefaultExperiment>` startTime, stopTime and stepSize (s).\npub const DEFAULT_EXPERIMENT: [f64; 3] = [{:?}, {:?}, {:?}];\n\n",
+        "    default_experiment: [{:?}, {:?}, {:?}],\n",
         model.default_start_time, model.default_stop_time, model.default_step_size
     ));
-    out.push_str("/// Value references, one constant per variable (dots become underscores).\npub mod vr {\n");
-    for v in &model.variables {
-        out.push_str(&format!(
-            "    /// `{}`\n    pub const {}: u32 = {};\n",
-            v.name,
-            const_name(&v.name),
-            v.value_reference
-        ));
-    }
-    out.push_str("}\n\n");
-    out.push_str("/// Every variable, in the order of `<ModelVariables>`.\npub const VARIABLES: &[Variable] = &[\n");
+    out.push_str("    variables: &[\n");
     for v in &model.variables {
         let start = match &v.start {
             None => "None".to_string(),
@@ -557,6 +733,7 @@ pub fn generate(model: &Model) -> String {
         };
         let causality = match v.causality.as_str() {
             "parameter" => "Parameter",
+            "structuralParameter" => "StructuralParameter",
             "calculatedParameter" => "CalculatedParameter",
             "input" => "Input",
             "output" => "Output",
@@ -570,11 +747,49 @@ pub fn generate(model: &Model) -> String {
             "discrete" => "Discrete",
             _ => "Continuous",
         };
+        let dimensions: Vec<String> = v
+            .dimensions
+            .iter()
+            .map(|d| match d {
+                Dimension::Fixed(n) => format!("Dimension::Fixed({n})"),
+                Dimension::Variable(r) => format!("Dimension::Variable({r})"),
+            })
+            .collect();
         out.push_str(&format!(
-            "    Variable {{ name: {:?}, vr: {}, kind: Kind::{:?}, causality: Causality::{causality}, variability: Variability::{variability}, start: {start} }},\n",
-            v.name, v.value_reference, v.kind
+            "        Variable {{ name: {:?}, vr: {}, kind: Kind::{:?}, causality: Causality::{causality}, variability: Variability::{variability}, start: {start}, min: {:?}, max: {:?}, dimensions: &[{}], intermediate_update: {} }},\n",
+            v.name, v.value_reference, v.kind, v.min, v.max, dimensions.join(", "), v.intermediate_update
         ));
     }
-    out.push_str("];\n");
+    out.push_str("    ],\n};\n\n");
+    out
+}
+
+/// Rust source for `$OUT_DIR/model_description.rs`, included by `src/fmi/variables.rs`: the model
+/// identifier, one value-reference constant per variable of either description (checked to agree
+/// by [`crate::model_description_fmi3::check_same_variables`]) and each description's table.
+pub fn generate(fmi2: &Model, fmi3: &Model) -> String {
+    let mut out = String::new();
+    out.push_str(
+        "// Generated by build.rs from modelDescription/modelDescription.xml and modelDescription-fmi3.xml. Do not edit.\n\n",
+    );
+    out.push_str(&format!(
+        "/// `modelIdentifier` of the Co-Simulation interface (both FMI versions).\npub const MODEL_IDENTIFIER: &str = {:?};\n\n",
+        fmi2.model_identifier
+    ));
+    out.push_str("/// Value references, one constant per variable (dots become underscores).\npub mod vr {\n");
+    let mut seen = BTreeSet::new();
+    for v in fmi2.variables.iter().chain(&fmi3.variables) {
+        if seen.insert(&v.name) {
+            out.push_str(&format!(
+                "    /// `{}`\n    pub const {}: u32 = {};\n",
+                v.name,
+                const_name(&v.name),
+                v.value_reference
+            ));
+        }
+    }
+    out.push_str("}\n\n");
+    out.push_str(&description_table("FMI2", fmi2));
+    out.push_str(&description_table("FMI3", fmi3));
     out
 }

@@ -12,7 +12,7 @@
 //! `PROPTEST_CASES=1000 cargo test --release --test fmi_c_api` runs a longer search.
 
 use plate_impact::fmi::fmi2::exports::*;
-use plate_impact::fmi::variables::{vr, Kind, GUID, VARIABLES};
+use plate_impact::fmi::variables::{vr, Kind, FMI2};
 use proptest::prelude::*;
 use std::ffi::CString;
 
@@ -64,7 +64,8 @@ const REALS: &[f64] = &[
 const INTEGERS: &[i32] = &[1, 2, 3, 0, -1, 401];
 
 fn vrs_of(kind: Kind) -> Vec<u32> {
-    let mut v: Vec<u32> = VARIABLES
+    let mut v: Vec<u32> = FMI2
+        .variables
         .iter()
         .filter(|v| v.kind == kind)
         .map(|v| v.vr)
@@ -140,7 +141,7 @@ impl Host {
             component_environment: std::ptr::null_mut(),
         };
         let name = CString::new("random").unwrap();
-        let guid = CString::new(GUID).unwrap();
+        let guid = CString::new(FMI2.token).unwrap();
         // SAFETY: valid strings and callbacks for the call.
         let c = unsafe {
             fmi2Instantiate(
@@ -214,7 +215,7 @@ impl Host {
                 fmi2GetReal(c, std::ptr::null(), 0, std::ptr::null_mut()),
                 fmi2GetRealStatus(c, 2, &mut t),
             ];
-            for v in VARIABLES {
+            for v in FMI2.variables {
                 let (status, bits) = match v.kind {
                     Kind::Real => {
                         let mut x = 0.0;
@@ -228,7 +229,7 @@ impl Host {
                         let mut b = 0;
                         (fmi2GetBoolean(c, &v.vr, 1, &mut b), b as u64)
                     }
-                    Kind::String => unreachable!(),
+                    Kind::String | Kind::UInt64 => unreachable!("not in FMI 2.0"),
                 };
                 values.push((status, if status == OK { bits } else { 0 }));
             }
@@ -245,6 +246,22 @@ impl Host {
                 values,
                 state,
             }
+        }
+    }
+
+    /// Takes the FMU state and sets it again: the status of fmi2SetFMUstate, or None when no
+    /// state can be taken.
+    fn restore_own_state(&self) -> Option<fmi2Status> {
+        let c = self.c;
+        let mut s: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY: `s` is null or a live state of this instance, freed once.
+        unsafe {
+            if fmi2GetFMUstate(c, &mut s) != OK {
+                return None;
+            }
+            let status = fmi2SetFMUstate(c, s);
+            fmi2FreeFMUstate(c, &mut s);
+            Some(status)
         }
     }
 
@@ -339,11 +356,11 @@ fn outputs_are_sound(
     bounds: (Option<f64>, Option<f64>, f64),
 ) -> Result<(), String> {
     let value = |name: &str| {
-        let i = VARIABLES.iter().position(|v| v.name == name).unwrap();
+        let i = FMI2.variables.iter().position(|v| v.name == name).unwrap();
         let (status, bits) = obs.values[i];
         (status == OK).then(|| f64::from_bits(bits))
     };
-    for v in VARIABLES.iter().filter(|v| v.kind == Kind::Real) {
+    for v in FMI2.variables.iter().filter(|v| v.kind == Kind::Real) {
         if let Some(x) = value(v.name) {
             if !x.is_finite() {
                 return Err(format!("{} = {x} reported with fmi2OK", v.name));
@@ -419,6 +436,11 @@ proptest! {
             let status = host.run(op);
             let after = host.observe();
             let context = format!("call {i}: {op:?} -> {status}");
+            // Every state the FMU gives can be set again, and setting it changes nothing.
+            if let Some(restored) = host.restore_own_state() {
+                prop_assert_eq!(restored, OK, "{}: its own FMU state was refused", context);
+                prop_assert_eq!(&host.observe(), &after, "{}: setting its own FMU state", context);
+            }
             steps += usize::from(matches!(op, Op::DoStep(..)) && status == OK);
             match status {
                 OK | 1 => outputs_are_sound(&after, bounds(&host))

@@ -1,17 +1,28 @@
-//! The build-time checker of `modelDescription/modelDescription.xml` (shared with build.rs) accepts
-//! the shipped description and rejects broken ones with a message naming the variable.
+//! The build-time checkers of the model descriptions (shared with build.rs) accept the shipped FMI
+//! 2.0 and 3.0 descriptions and reject broken ones with a message naming the variable or element;
+//! the comparison of the two rejects every way they could drift apart.
 
 #[path = "../build/model_description.rs"]
 mod model_description;
+#[path = "../build/model_description_fmi3.rs"]
+mod model_description_fmi3;
 
 use model_description::{check, generate};
+use model_description_fmi3::{check_fmi3, check_same_variables};
 
 const XML: &str = include_str!("../modelDescription/modelDescription.xml");
+const XML3: &str = include_str!("../modelDescription/modelDescription-fmi3.xml");
 
 /// The shipped XML with `from` replaced by `to` (which must occur exactly once).
 fn broken(from: &str, to: &str) -> String {
     assert_eq!(XML.matches(from).count(), 1, "{from:?} must occur once");
     XML.replace(from, to)
+}
+
+/// The shipped FMI 3.0 XML with `from` replaced by `to` (which must occur exactly once).
+fn broken3(from: &str, to: &str) -> String {
+    assert_eq!(XML3.matches(from).count(), 1, "{from:?} must occur once");
+    XML3.replace(from, to)
 }
 
 fn rejected(xml: &str, words: &[&str]) {
@@ -21,13 +32,39 @@ fn rejected(xml: &str, words: &[&str]) {
     }
 }
 
+fn rejected3(xml: &str, words: &[&str]) {
+    let err = check_fmi3(xml).expect_err("the broken description was accepted");
+    for w in words {
+        assert!(err.contains(w), "{w:?} not in the message: {err}");
+    }
+}
+
+/// An FMI 3.0 description that passes its own checks but disagrees with the FMI 2.0 one.
+fn disagrees(xml3: &str, words: &[&str]) {
+    let fmi3 = check_fmi3(xml3).expect("the FMI 3.0 description on its own is valid");
+    let err = check_same_variables(&check(XML).unwrap(), &fmi3)
+        .expect_err("the disagreement was accepted");
+    for w in words {
+        assert!(err.contains(w), "{w:?} not in the message: {err}");
+    }
+}
+
 #[test]
-fn the_shipped_description_passes_and_generates_the_table() {
+fn the_shipped_descriptions_pass_agree_and_generate_the_tables() {
     let model = check(XML).unwrap();
     assert_eq!(model.variables.len(), 38);
-    let code = generate(&model);
+    let model3 = check_fmi3(XML3).unwrap();
+    assert_eq!(model3.variables.len(), 42);
+    check_same_variables(&model, &model3).unwrap();
+    let code = generate(&model, &model3);
     assert!(code.contains("pub const PLATE_LENGTH: u32 = 1;"), "{code}");
     assert!(code.contains("pub const CONTACT_ACTIVE_NODES: u32 = 43;"));
+    assert!(code.contains("pub const PLATE_DISPLACEMENT: u32 = 70;"));
+    assert!(
+        code.contains("pub const FMI2: Description")
+            && code.contains("pub const FMI3: Description")
+    );
+    assert!(code.contains("dimensions: &[Dimension::Variable(71), Dimension::Variable(72)]"));
 }
 
 #[test]
@@ -163,4 +200,208 @@ fn model_structure_must_list_the_outputs() {
 #[test]
 fn not_xml() {
     rejected("<fmiModelDescription", &["cannot parse"]);
+}
+
+#[test]
+fn fmi3_needs_its_instantiation_token() {
+    rejected3(
+        &broken3(
+            r#"instantiationToken="{0f6c3b57-3c1e-4a6e-9a43-5b0d6a8f9e21}""#,
+            "",
+        ),
+        &["instantiationToken"],
+    );
+    rejected3(
+        &broken3(r#"fmiVersion="3.0""#, r#"fmiVersion="2.0""#),
+        &["fmiVersion"],
+    );
+}
+
+#[test]
+fn fmi3_needs_exactly_one_independent_variable() {
+    let time = r#"<Float64 name="time" valueReference="0" causality="independent" variability="continuous" unit="s" description="the independent variable, the FMU time"/>"#;
+    rejected3(&broken3(time, ""), &["exactly one independent", "found 0"]);
+    let second = format!(
+        "{time}\n    {}",
+        time.replace(
+            r#"name="time" valueReference="0""#,
+            r#"name="clock" valueReference="99""#
+        )
+    );
+    rejected3(
+        &broken3(time, &second),
+        &["exactly one independent", "found 2"],
+    );
+    rejected3(
+        &broken3(time, &time.replace(r#"unit="s""#, r#"unit="s" start="0""#)),
+        &["time", "start"],
+    );
+}
+
+#[test]
+fn fmi3_dimensions_name_uint64_structural_parameters() {
+    rejected3(
+        &broken3(
+            r#"<Dimension valueReference="71"/>"#,
+            r#"<Dimension valueReference="41"/>"#,
+        ),
+        &[
+            "plate.displacement",
+            "mesh.nx",
+            "UInt64 structural parameter",
+        ],
+    );
+    rejected3(
+        &broken3(
+            r#"<Dimension valueReference="71"/>"#,
+            r#"<Dimension valueReference="999"/>"#,
+        ),
+        &["plate.displacement", "names no variable"],
+    );
+    rejected3(
+        &broken3(r#"<Dimension valueReference="71"/>"#, r#"<Dimension/>"#),
+        &["plate.displacement", "<Dimension>"],
+    );
+    rejected3(
+        &broken3(r#"start="8" min="2""#, r#"start="0" min="0""#),
+        &["plate.displacement", "mesh.vertex_rows", "larger than 0"],
+    );
+    rejected3(
+        &broken3(
+            r#"name="mesh.vertex_rows" valueReference="71" causality="structuralParameter" variability="fixed""#,
+            r#"name="mesh.vertex_rows" valueReference="71" causality="parameter" variability="fixed""#,
+        ),
+        &["mesh.vertex_rows", "structural parameter"],
+    );
+}
+
+#[test]
+fn fmi3_model_structure_lists_outputs_by_value_reference() {
+    rejected3(
+        &broken3("    <Output valueReference=\"70\"/>\n", ""),
+        &["ModelStructure/Output", "70"],
+    );
+    rejected3(
+        &broken3("    <InitialUnknown valueReference=\"30\"/>\n", ""),
+        &["ModelStructure/InitialUnknown"],
+    );
+}
+
+#[test]
+fn fmi3_capabilities_this_fmu_relies_on() {
+    rejected3(
+        &broken3(r#"hasEventMode="false""#, r#"hasEventMode="true""#),
+        &["hasEventMode", "no Event Mode"],
+    );
+    rejected3(
+        &broken3(
+            r#"fixedInternalStepSize="1e-4""#,
+            r#"fixedInternalStepSize="1e-3""#,
+        ),
+        &["fixedInternalStepSize", "solver.time_step"],
+    );
+    let without_updates = XML3
+        .replace(
+            r#"providesIntermediateUpdate="true""#,
+            r#"providesIntermediateUpdate="false""#,
+        )
+        .replace(
+            r#"canReturnEarlyAfterIntermediateUpdate="false""#,
+            r#"canReturnEarlyAfterIntermediateUpdate="true""#,
+        );
+    rejected3(&without_updates, &["providesIntermediateUpdate"]);
+}
+
+#[test]
+fn fmi3_variable_rules() {
+    rejected3(
+        &broken3(
+            r#"<Float64 name="plate.width" valueReference="2" causality="parameter" variability="fixed" unit="m""#,
+            r#"<Float64 name="plate.width" valueReference="2" causality="parameter" variability="fixed""#,
+        ),
+        &["plate.width", "unit"],
+    );
+    rejected3(
+        &broken3(
+            r#"<Float64 name="load.pressure" valueReference="11" causality="parameter" variability="tunable""#,
+            r#"<Float64 name="load.pressure" valueReference="11" causality="parameter" variability="tunable" intermediateUpdate="true""#,
+        ),
+        &["load.pressure", "intermediateUpdate"],
+    );
+    rejected3(
+        &broken3(
+            r#"<Float64 name="base.displacement" valueReference="20" causality="input" variability="continuous" unit="m" start="0""#,
+            r#"<Float64 name="base.displacement" valueReference="20" causality="input" variability="continuous" unit="m""#,
+        ),
+        &["base.displacement", "start value is required"],
+    );
+    rejected3(
+        &broken3(r#"<Int32 name="mesh.nx""#, r#"<Int16 name="mesh.nx""#),
+        &["cannot parse"],
+    );
+}
+
+#[test]
+fn the_two_descriptions_may_not_drift_apart() {
+    disagrees(
+        &broken3(
+            r#"unit="m" start="0.4" min="0""#,
+            r#"unit="m" start="0.5" min="0""#,
+        ),
+        &["plate.length", "start"],
+    );
+    disagrees(
+        &broken3(
+            r#"name="plate.width" valueReference="2""#,
+            r#"name="plate.width" valueReference="3000""#,
+        ),
+        &["plate.width", "valueReference"],
+    );
+    disagrees(
+        &broken3(
+            r#"description="cells along x""#,
+            r#"description="cells in x""#,
+        ),
+        &["mesh.nx", "description"],
+    );
+    disagrees(
+        &broken3(
+            r#"name="obstacle.lower" valueReference="9" causality="parameter" variability="tunable""#,
+            r#"name="obstacle.lower" valueReference="9" causality="parameter" variability="fixed""#,
+        ),
+        &["obstacle.lower", "variability"],
+    );
+    disagrees(
+        &broken3(
+            r#"<Float64 name="energy.kinetic""#,
+            r#"<Float64 name="energy.kinetik""#,
+        ),
+        &["energy.kinetic", "missing"],
+    );
+    disagrees(
+        &broken3(
+            r#"maxOutputDerivativeOrder="1""#,
+            r#"maxOutputDerivativeOrder="2""#,
+        ),
+        &["maxOutputDerivativeOrder"],
+    );
+    disagrees(
+        &broken3(
+            r#"<Category name="logAll""#,
+            r#"<Category name="logEverything""#,
+        ),
+        &["log categories"],
+    );
+    // A scalar only in FMI 3.0: FMI 2.0 could express it.
+    let extra = r#"<Float64 name="time" valueReference="0""#;
+    disagrees(
+        &broken3(
+            extra,
+            &format!(
+                r#"<Float64 name="extra.parameter" valueReference="98" causality="parameter" variability="fixed" unit="m" start="1"/>
+    {extra}"#
+            ),
+        ),
+        &["extra.parameter", "only in the FMI 3.0"],
+    );
 }

@@ -3,7 +3,7 @@
 
 use super::status::Failure;
 use std::borrow::Cow;
-use std::ffi::{c_char, CStr};
+use std::ffi::{c_char, CStr, CString};
 
 /// A refusal naming a null pointer argument.
 pub fn null_argument(what: &str) -> Failure {
@@ -60,4 +60,9 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
         .map(|s| s.to_string())
         .or_else(|| payload.downcast_ref::<String>().cloned())
         .unwrap_or_else(|| "unknown panic".into())
+}
+
+/// A C string for the host's logger: NUL characters in `s` are written as `\0`.
+pub fn to_cstring(s: &str) -> CString {
+    CString::new(s.replace('\0', "\\0")).expect("NULs were replaced")
 }

@@ -1,15 +1,15 @@
 //! The interface between the generic FMI machinery and a model binding (the role of
 //! `model.h` in modelica's Reference-FMUs).
 //!
-//! The FMI-version-specific layer ([`super::fmi2`]) owns the call-state machine, the logger and
-//! the C types; it maps its states onto a version-neutral [`Phase`] and calls a [`Model`] for
-//! everything the model knows: its variables' values, its experiment, its steps and its state.
-//! Rules that hold for every model live here: which variables may be set in which phase, and
-//! stage-then-commit of a multi-value set.
+//! The FMI-version-specific layers ([`super::fmi2`], [`super::fmi3`]) own their call-state
+//! machines and C types; the generic [`Instance`](super::instance::Instance) maps their states
+//! onto a version-neutral [`Phase`] and calls a [`Model`] for everything the model knows: its
+//! variables' values, its experiment, its steps and its state. Rules that hold for every model
+//! live here: which variables may be set in which phase.
 
 use super::logger::Logger;
 use super::status::{Failure, Status};
-use super::variables::{Causality, Kind, Variability, Variable};
+use super::variables::{Causality, Description, Kind, Variability, Variable};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -18,13 +18,17 @@ use serde::Serialize;
 pub enum Phase {
     /// Instantiated, before initialization: parameters and inputs get their start values.
     Instantiated,
+    /// FMI 3.0 Configuration Mode, before initialization: only structural parameters may be set.
+    Configuration,
     /// Initialization mode: as Instantiated, and outputs may be read.
     Initialization,
     /// Stepping: tunable parameters and inputs may be set, outputs describe the last step.
     Stepping,
     /// Terminated: values may be read, nothing else.
     Terminated,
-    /// After a failed step (or an internal error): values may be read for debugging.
+    /// After a failed step (or an internal error): values may be read for debugging. FMI 3.0 ends
+    /// both a run and every failure in its one Terminated state, which is this phase: it may or
+    /// may not hold a simulation.
     Failed,
 }
 
@@ -38,12 +42,50 @@ impl Phase {
 /// One variable value, typed as FMI transports it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
-    /// fmi2Real.
+    /// fmi2Real, fmi3Float64.
     Real(f64),
-    /// fmi2Integer (also enumerations).
+    /// fmi2Integer (also enumerations), fmi3Int32.
     Integer(i32),
-    /// fmi2Boolean.
+    /// fmi3UInt64.
+    UInt64(u64),
+    /// fmi2Boolean, fmi3Boolean.
     Boolean(bool),
+}
+
+/// The values of an array variable: its shape (outermost dimension first) and its elements in
+/// row-major order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Array<'a> {
+    /// The size of each dimension.
+    pub shape: Vec<u64>,
+    /// As many values as the product of the sizes.
+    pub values: &'a [f64],
+}
+
+/// The time derivative of an output: one value, or one per element of an array output.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Derivative<'a> {
+    /// d/dt of a scalar output.
+    Scalar(f64),
+    /// d/dt of each element of an array output, in its order.
+    Array(Array<'a>),
+}
+
+/// How a communication step may end, as the importer allows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepOptions {
+    /// Whether the step may return early (FMI 3.0 `earlyReturnAllowed`).
+    pub early_return: bool,
+}
+
+/// What a communication step did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StepOutcome {
+    /// fmi3OK, or fmi3Warning when something was logged as a warning.
+    pub status: Status,
+    /// Whether the step ended before t + h (only when [`StepOptions::early_return`]); the model's
+    /// time is where it ended.
+    pub early_return: bool,
 }
 
 /// What the FMI layer needs from a model. Every method that returns an error with
@@ -54,12 +96,11 @@ pub trait Model: Send + Sized {
     /// Everything needed to continue a run, in this or another instance (the FMU state).
     type Snapshot: Clone + Serialize + DeserializeOwned;
 
-    /// The `guid` of the model description.
-    const GUID: &'static str;
-    /// The `<LogCategories>` of the model description.
-    const LOG_CATEGORIES: &'static [&'static str];
-    /// The variables of the model description.
-    const VARIABLES: &'static [Variable];
+    /// The model's FMI 2.0 description.
+    const FMI2: &'static Description;
+    /// The model's FMI 3.0 description: the variables of [`Model::FMI2`] and those only FMI 3.0
+    /// can express.
+    const FMI3: &'static Description;
 
     /// A model with every variable at its start value.
     fn new() -> Self;
@@ -76,8 +117,19 @@ pub trait Model: Send + Sized {
     /// The current time (s).
     fn time(&self, phase: Phase) -> f64;
 
-    /// The value of `variable` (its kind already checked by the caller).
+    /// The value of scalar `variable` (its kind already checked by the caller).
     fn get(&mut self, variable: &Variable, phase: Phase) -> Result<Value, Failure>;
+
+    /// The values of array `variable`, a Real output.
+    fn get_array(&mut self, variable: &Variable, phase: Phase) -> Result<Array<'_>, Failure>;
+
+    /// The derivative of order `order` (≥ 1) of output `variable` at the current time, a Real.
+    fn output_derivative(
+        &mut self,
+        variable: &Variable,
+        order: i32,
+        phase: Phase,
+    ) -> Result<Derivative<'_>, Failure>;
 
     /// A draft holding the current values of everything a set may change.
     fn draft(&self) -> Self::Draft;
@@ -99,9 +151,15 @@ pub trait Model: Send + Sized {
     /// Derivatives of inputs (variable, order ≥ 1, value) for the next step: all or nothing.
     fn set_input_derivatives(&mut self, items: &[(&Variable, i32, f64)]) -> Result<(), Failure>;
 
-    /// One communication step from `t` of size `h`; `Ok(Status::Warning)` when something was
-    /// logged as a warning. A failure part-way is [`Failure::broken`].
-    fn do_step(&mut self, t: f64, h: f64, log: &mut Logger) -> Result<Status, Failure>;
+    /// One communication step from `t` of size `h`, ended early only as `options` allow. A
+    /// failure part-way is [`Failure::broken`].
+    fn do_step(
+        &mut self,
+        t: f64,
+        h: f64,
+        options: StepOptions,
+        log: &mut Logger,
+    ) -> Result<StepOutcome, Failure>;
 
     /// The model's state in `phase`.
     fn snapshot(&self, phase: Phase) -> Self::Snapshot;
@@ -114,8 +172,9 @@ pub trait Model: Send + Sized {
     fn restore(&mut self, snapshot: &Self::Snapshot, phase: Phase) -> Result<(), Failure>;
 }
 
-/// Whether `variable` may be set in `phase`: parameters before initialization ends, tunable
-/// parameters and inputs also while stepping; never outputs, and nothing once terminated or failed.
+/// Whether `variable` may be set in `phase`: parameters before initialization ends (not in
+/// Configuration Mode), tunable parameters and inputs also while stepping, structural parameters
+/// in Configuration Mode only; never outputs, and nothing once terminated or failed.
 pub fn check_settable(variable: &Variable, phase: Phase) -> Result<(), Failure> {
     let configuring = matches!(phase, Phase::Instantiated | Phase::Initialization);
     let allowed = match variable.causality {
@@ -123,6 +182,7 @@ pub fn check_settable(variable: &Variable, phase: Phase) -> Result<(), Failure> 
             configuring
                 || (phase == Phase::Stepping && variable.variability == Variability::Tunable)
         }
+        Causality::StructuralParameter => phase == Phase::Configuration,
         Causality::Input => configuring || phase == Phase::Stepping,
         _ => false,
     };
@@ -130,8 +190,12 @@ pub fn check_settable(variable: &Variable, phase: Phase) -> Result<(), Failure> 
         return Ok(());
     }
     Err(Failure::refused(match variable.causality {
-        Causality::Parameter if variable.variability == Variability::Fixed => format!(
+        Causality::Parameter if variable.variability == Variability::Fixed && phase != Phase::Configuration => format!(
             "{} is a fixed parameter: set it before the end of initialization (phase now {phase:?})",
+            variable.name
+        ),
+        Causality::StructuralParameter => format!(
+            "{} is a structural parameter: set it in Configuration Mode (fmi3EnterConfigurationMode before initialization; phase now {phase:?})",
             variable.name
         ),
         Causality::Parameter | Causality::Input => format!(
@@ -161,22 +225,4 @@ pub fn variable<'a>(
             "{vr} is not a value reference of this FMU"
         ))),
     }
-}
-
-/// Stage-then-commit of a multi-value set: every value is checked (type, settable now, its own
-/// range) into a draft, then what ties them together, and only then is the draft applied, so a
-/// refused call changes nothing.
-pub fn set_values<M: Model>(
-    model: &mut M,
-    phase: Phase,
-    kinds: &[Kind],
-    values: impl Iterator<Item = (u32, Value)>,
-) -> Result<(), Failure> {
-    let mut draft = model.draft();
-    for (vr, value) in values {
-        let v = variable(M::VARIABLES, vr, kinds)?;
-        check_settable(v, phase)?;
-        model.stage(&mut draft, v, value, phase)?;
-    }
-    model.commit(draft, phase)
 }

@@ -40,6 +40,9 @@ pub struct FreeSystem {
     pub constrained: Vec<usize>,
     /// Output functionals restricted to the free dofs.
     pub outputs: [Vec<f64>; 3],
+    /// For each mesh vertex, in the mesh's order, the free-dof index of its value dof; `None` on
+    /// the clamp, where the value is the base displacement.
+    pub vertex_values: Vec<Option<usize>>,
     /// 𝟙ᵀM𝟙: the plate's mass (kg).
     pub total_mass: f64,
     /// ∫ 1: the plate's area (m²).
@@ -93,6 +96,9 @@ impl FreeSystem {
                 }
                 row
             }),
+            vertex_values: (0..plate.disc.mesh.vertices.len())
+                .map(|v| keep.binary_search(&plate.disc.value_dof(v)).ok())
+                .collect(),
             total_mass: dot(&m_translation, &plate.translation),
             area: dot(&plate.unit_load, &plate.translation),
         }

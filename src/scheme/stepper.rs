@@ -243,6 +243,51 @@ impl Stepper {
         w.iter().map(|w| self.base[1] + w).collect()
     }
 
+    /// The displacements u_{n−1} and u_n (m) at every mesh vertex, in the mesh's vertex order: the
+    /// base displacement z on the clamp, z + w elsewhere (w the vertex's value dof). At n = 0 both
+    /// are the initial state (released at rest).
+    pub fn vertex_displacements(&self) -> [Vec<f64>; 2] {
+        let free = &*self.free;
+        // With an obstacle the constrained vertices are exactly those off the clamp, in the same
+        // order, and the backend reads their values cheaply; without, from the free dofs.
+        let constrained_are_off_clamp = free
+            .constrained
+            .iter()
+            .eq(free.vertex_values.iter().flatten());
+        [
+            (&self.levels.previous, self.base[0]),
+            (&self.levels.current, self.base[1]),
+        ]
+        .map(|(field, z)| {
+            let relative: Vec<f64> = if constrained_are_off_clamp {
+                let mut w = vec![0.0; free.constrained.len()];
+                self.backend.constrained_values(field, &mut w);
+                w
+            } else {
+                let w = self.backend.to_free_dofs(field);
+                free.vertex_values.iter().flatten().map(|&k| w[k]).collect()
+            };
+            let mut relative = relative.into_iter();
+            free.vertex_values
+                .iter()
+                .map(|k| match k {
+                    Some(_) => z + relative.next().expect("one value per vertex off the clamp"),
+                    None => z,
+                })
+                .collect()
+        })
+    }
+
+    /// The displacements u_{n−1} and u_n (m) at the three output points, formed as
+    /// [`Stepper::outputs`] forms u_n (bit for bit).
+    pub fn output_point_displacements(&self) -> [[f64; 3]; 2] {
+        [
+            (&self.levels.previous, self.base[0]),
+            (&self.levels.current, self.base[1]),
+        ]
+        .map(|(field, z)| self.backend.output_values(field).map(|w| z + w))
+    }
+
     /// Contact forces f_i = μ_i/Δt² at the constrained vertices after the last step (N), with μ
     /// the QP multipliers (2μ_i/Δt² after the start step, whose equation is scaled by Δt²/2): ≥ 0
     /// on the lower obstacle, ≤ 0 on the upper one, 0 where the vertex is free. Before the first

@@ -184,6 +184,14 @@ pub struct StepEnd {
 }
 
 impl StepEnd {
+    /// The end at grid point `index`.
+    pub fn on_grid(index: u64) -> StepEnd {
+        StepEnd {
+            index,
+            between: None,
+        }
+    }
+
     /// t + h − t_start (s): exactly N Δt when the step ends on the grid.
     pub fn elapsed(&self, grid: &TimeGrid) -> f64 {
         self.between.unwrap_or_else(|| grid.elapsed(self.index))
@@ -200,10 +208,7 @@ mod tests {
     };
 
     fn on_grid(index: u64) -> Result<StepEnd, GridError> {
-        Ok(StepEnd {
-            index,
-            between: None,
-        })
+        Ok(StepEnd::on_grid(index))
     }
 
     #[test]

@@ -22,7 +22,9 @@
 //! (t_M = t_k) this is z̃(t_k + τ) = z_k + s_k τ + ½ a_k τ² + m_k (1 − τ/H). The grid span H and
 //! the offsets are grid times, never the host's raw h, so round-off in the host's h cannot change
 //! the result. A communication step that computes no new grid point (it ends before t_M) applies
-//! nothing: it only records its sample, for the next backward difference.
+//! nothing: it only records its sample, for the next backward difference. A communication step
+//! that returns early (at an impact, [`super::Simulation::advance`]) has applied the plan up to
+//! the grid point where it stopped; the next step blends out the mismatch from there.
 //!
 //! For a smooth input the applied base is second-order accurate with no lag: the extrapolation
 //! errs by at most ½|z''| (t − t_k)² with t − t_k ≤ t_N − t_k < h + Δt, and m_k, the previous
@@ -124,10 +126,11 @@ impl InputHistory {
     }
 
     /// Records a completed communication step whose sample was taken at `sample_time` and that
-    /// followed `plan` to its end.
-    pub fn finish(&mut self, sample_time: f64, plan: &InputPlan) {
+    /// followed `plan` over the grid span `reached` (σ of its last grid point: the plan's span H,
+    /// or less when the step returned early).
+    pub fn finish(&mut self, sample_time: f64, plan: &InputPlan, reached: f64) {
         self.last_sample = Some((sample_time, plan.sample));
-        self.applied = plan.at(plan.span);
+        self.applied = plan.at(reached);
     }
 
     /// Records the sample `value` taken at `sample_time` by a communication step that computed
@@ -189,7 +192,7 @@ mod tests {
                     assert!(e <= 2.0 * 0.6 * h, "start-up error {e} is not O(H |z'|)");
                 }
             }
-            input.finish(t, &plan);
+            input.finish(t, &plan, plan.span);
         }
         err
     }
@@ -239,7 +242,7 @@ mod tests {
                         err = err.max((plan.at(sigma) - f(from + sigma)).abs());
                     }
                 }
-                input.finish(t, &plan);
+                input.finish(t, &plan, plan.span);
             }
             (t, computed) = (end.elapsed(&grid), end.index);
         }
@@ -275,7 +278,7 @@ mod tests {
             for tau in [0.25 * h, 0.5 * h, h] {
                 assert!((plan.at(tau) - f(t + tau)).abs() < 1e-12);
             }
-            input.finish(t, &plan);
+            input.finish(t, &plan, plan.span);
         }
     }
 

@@ -17,6 +17,22 @@
 //!   `active_nodes` and `contact_force`, the total contact force of that internal step. A force
 //!   is reported only together with the vertices that carry it, never as a blend of two steps'
 //!   forces.
+//!
+//! The displacement at every mesh vertex ([`VertexField`]) follows the same rule as the
+//! displacement outputs. Their time derivatives are the slope of that interpolation,
+//! (y_N − y_{N−1})/Δt, over the grid interval (t_{N−1}, t_N] that holds the communication time
+//! ([`rate`]): the scheme's half-step velocity v_{N−½} = (u_N − u_{N−1})/Δt. Between grid points
+//! it is the exact derivative of the reported outputs, so a host extrapolating y(t) + τ·ẏ from a
+//! point between t_{N−1} and t_N lands on y_N at t_N. On a grid point it is the derivative from
+//! the left, a first-order estimate of u̇(t_N) (error at most Δt/2·max|ü|; the velocity after
+//! t_N depends on the base of the next step, not yet known). At an impact the velocity of a
+//! vertex changes within one internal step: the rate reported at the grid point where the contact
+//! closed is the approach velocity of the step that ended there (toward the obstacle; Newton's
+//! law with restitution e turns it into about −e times itself), and from the next grid point on
+//! it is the velocity after the impact. A host that extrapolates from the impact's grid point
+//! with it predicts the vertex past the obstacle by up to h·|v| after a step h; FMI 3.0 hosts can
+//! have a communication point right at each impact (early return) and re-read the rate one
+//! internal step later.
 
 use super::grid::TimeGrid;
 use crate::scheme::Outputs;
@@ -42,7 +58,7 @@ pub enum CommunicationPoint {
 /// one, with outputs `next` (module docs): continuous outputs interpolated linearly, the contact
 /// state of `previous`.
 pub fn interpolate(previous: &Outputs, next: &Outputs, theta: f64) -> Outputs {
-    let mix = |a: f64, b: f64| a + theta * (b - a);
+    let mix = |a: f64, b: f64| mix(a, b, theta);
     Outputs {
         corner1: mix(previous.corner1, next.corner1),
         corner2: mix(previous.corner2, next.corner2),
@@ -57,6 +73,52 @@ pub fn interpolate(previous: &Outputs, next: &Outputs, theta: f64) -> Outputs {
         load_work: mix(previous.load_work, next.load_work),
         contact_loss: mix(previous.contact_loss, next.contact_loss),
         damping_loss: mix(previous.damping_loss, next.damping_loss),
+    }
+}
+
+/// a + θ(b − a): the value θ of the way from a to b.
+fn mix(a: f64, b: f64, theta: f64) -> f64 {
+    a + theta * (b - a)
+}
+
+/// d/dt of a displacement at the communication time: (`current` − `previous`)/`dt`, the slope
+/// over the grid interval (t_{N−1}, t_N] that holds it (module docs).
+pub fn rate(previous: f64, current: f64, dt: f64) -> f64 {
+    (current - previous) / dt
+}
+
+/// The displacement at every mesh vertex at the communication time (m), in the mesh's vertex
+/// order, and its rate (m/s) (module docs). For the structured meshes of a scene, vertex
+/// (i, j) at (x_i, y_j) = (i·Lx/nx, j·Ly/ny) is entry i + j·(nx + 1): row-major with the rows
+/// along y and the columns along x.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VertexField {
+    /// u at each vertex (m).
+    pub displacement: Vec<f64>,
+    /// du/dt at each vertex (m/s).
+    pub rate: Vec<f64>,
+}
+
+impl VertexField {
+    /// The field at θ ∈ (0, 1) of the way from the grid point with displacements `previous` to
+    /// the next one, `current`, with `theta` = `None` for the grid point of `current` itself;
+    /// `dt` the grid step (s).
+    pub fn between(previous: &[f64], current: &[f64], theta: Option<f64>, dt: f64) -> VertexField {
+        VertexField {
+            displacement: match theta {
+                None => current.to_vec(),
+                Some(theta) => previous
+                    .iter()
+                    .zip(current)
+                    .map(|(&a, &b)| mix(a, b, theta))
+                    .collect(),
+            },
+            rate: previous
+                .iter()
+                .zip(current)
+                .map(|(&a, &b)| rate(a, b, dt))
+                .collect(),
+        }
     }
 }
 

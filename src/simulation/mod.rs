@@ -7,6 +7,10 @@
 //! * [`interpolation`]: the outputs at a communication point between two grid points;
 //! * [`contact_summary`]: impacts, impulse and peak contact force over a communication step.
 //!
+//! A communication step may also end early, at the first grid point where the contact set goes
+//! from empty to non-empty ([`Simulation::advance`] with `stop_at_impact`), so that a host gets a
+//! communication point at every impact (FMI 3.0's early return).
+//!
 //! The base displacement of the plate is the scene's built-in sine c sin(2πf(t − t_start)) plus
 //! the external signal. The internal steps always lie on the fixed grid, whatever the host's
 //! communication steps: a communication step from t to t + h computes the grid up to the first
@@ -29,6 +33,7 @@ pub use crate::scheme::{Outputs, State, StepPath, StepReport};
 use contact_summary::ContactSummary;
 use grid::{GridError, StepEnd, TimeGrid};
 use input::{InputHistory, InputSample};
+pub use interpolation::VertexField;
 use interpolation::{interpolate, CommunicationPoint};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
@@ -59,6 +64,9 @@ pub struct CommunicationStep {
     pub internal_steps: u64,
     /// Internal steps solved less exactly than the normal path (see [`InternalStep::degraded`]).
     pub degraded_steps: u64,
+    /// Whether the step ended early, at the grid point of an impact before t + h (only when
+    /// asked to, see [`Simulation::advance`]).
+    pub stopped_at_impact: bool,
 }
 
 /// How [`Simulation::restart`] got back to n = 0.
@@ -88,20 +96,28 @@ pub struct SimulationState {
     pub contact_ahead: ContactSummary,
 }
 
-/// How far past an obstacle a vertex may lie, as a fraction of the gap (of 1 m with one obstacle),
+/// How far past an obstacle a vertex may lie, as a fraction of the gap ([`bound_tolerance`]),
 /// before a state counts as a contact problem that was not solved: the dynamic steps are exact to
 /// round-off (at most 7e-11 of the gap measured, on the clarabel path), and the static preload
 /// problem, solved by clarabel alone, lay up to 9e-9 of the gap past an obstacle for a plate as soft
-/// as E = 1e-4 Pa.
+/// as E = 1e-4 Pa. Every impact law keeps every level within the obstacles (the paper's bounds
+/// u_{n+1} ∈ [g1, g2] for e = 0, Newton's law's bounds between u_n and u_{n−1} for e > 0), so the
+/// same tolerance holds for every e.
 pub const BOUND_TOLERANCE: f64 = 1e-7;
+
+/// [`BOUND_TOLERANCE`] × gap (m), the gap being g2 − g1 with a disabled obstacle counted at ±1 m
+/// (so 1 + g2 or 1 − g1 with one obstacle, 2 m with none).
+pub fn bound_tolerance(scene: &Scene) -> f64 {
+    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+    BOUND_TOLERANCE * (upper.unwrap_or(1.0) - lower.unwrap_or(-1.0))
+}
 
 /// Refuses an initial state with a vertex past an obstacle (a static preload problem that was not
 /// solved accurately), naming the vertex position and the obstacle.
 fn check_initial_state(stepper: &Stepper) -> Result<(), Error> {
     let scene = stepper.scene();
     let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let gap = upper.unwrap_or(1.0) - lower.unwrap_or(-1.0);
-    let tolerance = BOUND_TOLERANCE * gap;
+    let tolerance = bound_tolerance(scene);
     for u in stepper.constrained_displacements() {
         let past = |g: Option<f64>, below: bool| {
             g.filter(|&g| {
@@ -136,12 +152,28 @@ pub struct Simulation {
     grid_outputs: OnceCell<Outputs>,
     /// The outputs at the communication point, when it lies before t_N.
     interpolated: OnceCell<Outputs>,
+    /// The displacement field at the communication point and its rate.
+    field: OnceCell<VertexField>,
 }
 
 impl Simulation {
     /// Sets the scene up (assembly, backend, static preload) at t_start = `start_time` (s), with
     /// the external base displacement `external_base` (m) there.
+    /// Refused for a time step whose square overflows (above about 1.3e154 s): the scheme's
+    /// matrices and forces scale with Δt², so nothing of such a step would be finite, and a saved
+    /// state could not be checked.
     pub fn new(scene: &Scene, start_time: f64, external_base: f64) -> Result<Simulation, Error> {
+        let dt = scene.solver.time_step;
+        if !(dt * dt).is_finite() {
+            return Err(Error::InvalidParameter {
+                name: "solver.time_step".into(),
+                value: format!("{dt} s"),
+                limit: format!(
+                    "its square must be finite (at most {:e} s): the scheme's matrices scale with it",
+                    f64::MAX.sqrt()
+                ),
+            });
+        }
         let z0 = scene.builtin_base(0.0) + external_base;
         let stepper = Stepper::new(scene, z0)?;
         check_initial_state(&stepper)?;
@@ -157,6 +189,7 @@ impl Simulation {
             contact_ahead: ContactSummary::default(),
             grid_outputs: OnceCell::new(),
             interpolated: OnceCell::new(),
+            field: OnceCell::new(),
             stepper,
         })
     }
@@ -259,6 +292,31 @@ impl Simulation {
         &self.contact
     }
 
+    /// d/dt of the displacement outputs `corner1`, `corner2`, `edge_mid` at the communication
+    /// time (m/s): the slope of their interpolation, (y_N − y_{N−1})/Δt over the grid interval
+    /// (t_{N−1}, t_N] that holds the communication time ([`interpolation`]); 0 at t_start.
+    pub fn displacement_rates(&self) -> [f64; 3] {
+        let [previous, current] = self.stepper.output_point_displacements();
+        let dt = self.grid.step;
+        [0, 1, 2].map(|k| interpolation::rate(previous[k], current[k], dt))
+    }
+
+    /// The displacement at every mesh vertex at the communication time, and its rate, computed on
+    /// the first call after each change ([`interpolation`] gives the rule).
+    pub fn vertex_field(&self) -> &VertexField {
+        self.field.get_or_init(|| {
+            let [previous, current] = self.stepper.vertex_displacements();
+            let theta = match &self.point {
+                CommunicationPoint::OnGrid => None,
+                CommunicationPoint::Between { elapsed, .. } => {
+                    let n = self.stepper.step_index();
+                    Some((elapsed - self.grid.elapsed(n - 1)) / self.grid.step)
+                }
+            };
+            VertexField::between(&previous, &current, theta, self.grid.step)
+        })
+    }
+
     /// The outputs at the last computed grid point t_N.
     fn grid_outputs(&self) -> &Outputs {
         self.grid_outputs.get_or_init(|| self.stepper.outputs())
@@ -267,6 +325,7 @@ impl Simulation {
     fn invalidate_outputs(&mut self) {
         self.grid_outputs = OnceCell::new();
         self.interpolated = OnceCell::new();
+        self.field = OnceCell::new();
     }
 
     /// Where a communication step of size `h` (s) from the communication time ends on the grid;
@@ -278,12 +337,18 @@ impl Simulation {
 
     /// Advances the communication time to `end` (from [`Simulation::step_end`]): computes the grid
     /// up to t_N with the external base planned from `sample`, the sample at the communication
-    /// time (see [`input`]), calling `observer` after each internal step. On an error the steps
-    /// before it stay taken and the communication time is the last grid point reached.
+    /// time (see [`input`]), calling `observer` after each internal step. With `stop_at_impact`,
+    /// the step ends early at the first grid point before t + h where the contact set goes from
+    /// empty to non-empty (an impact): after the internal step that reached it, or at once when
+    /// that grid point was computed ahead by the previous step; the communication time is then
+    /// that grid point and [`CommunicationStep::stopped_at_impact`] is set. Without it, or without
+    /// such an impact, the step is the same, bit for bit. On an error the steps before it stay
+    /// taken and the communication time is the last grid point reached.
     pub fn advance(
         &mut self,
         end: &StepEnd,
         sample: &InputSample,
+        stop_at_impact: bool,
         observer: &mut dyn FnMut(&InternalStep),
     ) -> Result<CommunicationStep, Error> {
         let n0 = self.stepper.step_index();
@@ -297,13 +362,21 @@ impl Simulation {
         } else {
             ContactSummary::default()
         };
-        if end.index == n0 {
+        // An impact at t_{n0}, computed ahead, and a step that goes beyond it: end there.
+        let impact_ahead = stop_at_impact && end.index > n0 && self.contact.impacts > 0;
+        if end.index == n0 || impact_ahead {
             self.input.record(sample_time, sample.value);
-            let previous = match &self.point {
-                CommunicationPoint::Between { previous, .. } => Some(previous.clone()),
-                CommunicationPoint::OnGrid => None,
+            let (end, previous) = if impact_ahead {
+                (StepEnd::on_grid(n0), None)
+            } else {
+                let previous = match &self.point {
+                    CommunicationPoint::Between { previous, .. } => Some(previous.clone()),
+                    CommunicationPoint::OnGrid => None,
+                };
+                (*end, previous)
             };
-            self.move_point(end, previous);
+            self.move_point(&end, previous);
+            summary.stopped_at_impact = impact_ahead;
             return Ok(summary);
         }
         let dt = self.grid.step;
@@ -317,6 +390,8 @@ impl Simulation {
         let mut previous = None;
         self.point = CommunicationPoint::OnGrid;
         self.interpolated = OnceCell::new();
+        self.field = OnceCell::new();
+        let mut reached = steps;
         for i in 1..=steps {
             let ahead = i == steps && end.between.is_some();
             if ahead {
@@ -341,9 +416,20 @@ impl Simulation {
             summary.degraded_steps += u64::from(step.degraded().is_some());
             observer(&step);
             previously_active = report.active;
+            // t_n < t + h for every step before the last.
+            if stop_at_impact && report.impact && i < steps {
+                reached = i;
+                summary.stopped_at_impact = true;
+                break;
+            }
         }
-        self.input.finish(sample_time, &plan);
-        self.move_point(end, previous);
+        self.input.finish(sample_time, &plan, reached as f64 * dt);
+        let end = if summary.stopped_at_impact {
+            StepEnd::on_grid(n0 + reached)
+        } else {
+            *end
+        };
+        self.move_point(&end, previous);
         Ok(summary)
     }
 
@@ -356,6 +442,7 @@ impl Simulation {
             _ => CommunicationPoint::OnGrid,
         };
         self.interpolated = OnceCell::new();
+        self.field = OnceCell::new();
     }
 
     /// Moves the obstacles (tunable); see [`Stepper::set_obstacles`].
@@ -436,7 +523,7 @@ mod tests {
             value,
             ..InputSample::default()
         };
-        sim.advance(&end, &sample, &mut |_| {}).unwrap()
+        sim.advance(&end, &sample, false, &mut |_| {}).unwrap()
     }
 
     /// A fixed pseudo-random factor in [0.2, 1.5] for communication step k.
@@ -527,6 +614,18 @@ mod tests {
         assert_eq!(sim.state(), good, "a refused restore changes nothing");
     }
 
+    /// A time step whose square overflows is refused at set-up, naming the parameter; the largest
+    /// one whose square is finite is accepted.
+    #[test]
+    fn a_time_step_whose_square_overflows_is_refused() {
+        let mut scene = small(Scene::default());
+        scene.solver.time_step = 1e155;
+        let err = Simulation::new(&scene, 0.0, 0.0).err().unwrap();
+        assert!(err.to_string().contains("solver.time_step"), "{err}");
+        scene.solver.time_step = 1e154;
+        assert!(Simulation::new(&scene, 0.0, 0.0).is_ok());
+    }
+
     #[test]
     fn an_inaccurate_initial_state_is_refused() {
         let mut scene = small(Scene::default());
@@ -546,7 +645,9 @@ mod tests {
         let mut times = Vec::new();
         let end = sim.step_end(4e-4).unwrap();
         let summary = sim
-            .advance(&end, &InputSample::default(), &mut |s| times.push(s.time))
+            .advance(&end, &InputSample::default(), false, &mut |s| {
+                times.push(s.time)
+            })
             .unwrap();
         assert_eq!(summary.internal_steps, 4);
         assert_eq!(
@@ -657,6 +758,159 @@ mod tests {
         assert_eq!(random.peak_force, fine.peak_force);
         // The same terms summed in other groups: round-off only.
         assert!((random.impulse - fine.impulse).abs() <= 1e-12 * fine.impulse.abs());
+    }
+
+    /// The forced 35 Hz scene on the small mesh: impacts on both obstacles within 0.3 s.
+    fn forced_35hz() -> Scene {
+        let mut scene = small(Scene::default());
+        scene.base.amplitude = 0.009;
+        scene.base.frequency = 35.0;
+        scene
+    }
+
+    /// Early return: with the built-in sine as the only base motion, communication steps of random
+    /// size that stop at impacts have a communication point at the grid time of every impact, and
+    /// the grid trajectory is the one of single internal steps, bit for bit. Both ways of stopping
+    /// occur: after the internal step of the impact, and at once when the previous communication
+    /// step had computed it ahead.
+    #[test]
+    fn steps_that_stop_at_impacts_have_a_point_at_every_impact() {
+        let scene = forced_35hz();
+        let stop = 3000;
+        let mut fine = Simulation::new(&scene, 0.0, 0.0).unwrap();
+        let mut grid_bits = vec![trace_bits(fine.outputs())];
+        let mut impacts = Vec::new();
+        // Beyond `stop` by more than the longest communication step (15 internal steps).
+        for n in 1..=stop + 20 {
+            let end = fine.step_end(1e-4).unwrap();
+            let mut impact = false;
+            fine.advance(&end, &InputSample::default(), true, &mut |s| {
+                impact |= s.report.impact
+            })
+            .unwrap();
+            grid_bits.push(trace_bits(fine.outputs()));
+            if impact && n <= stop {
+                impacts.push(n);
+            }
+        }
+        assert!(impacts.len() > 5, "{impacts:?}");
+        let mut sim = Simulation::new(&scene, 0.0, 0.0).unwrap();
+        let (mut reached, mut in_loop, mut at_once) = (Vec::new(), 0, 0);
+        let mut k = 0;
+        while sim.step_index() < stop {
+            let end = sim.step_end(1e-3 * factor(k)).unwrap();
+            let summary = sim
+                .advance(&end, &InputSample::default(), true, &mut |_| {})
+                .unwrap();
+            if summary.stopped_at_impact {
+                assert_eq!(
+                    sim.time(),
+                    sim.grid_time(),
+                    "an early return lands on the grid"
+                );
+                if summary.internal_steps == 0 {
+                    at_once += 1;
+                } else {
+                    in_loop += 1;
+                }
+            }
+            if sim.time() == sim.grid_time() {
+                let n = sim.step_index();
+                assert_eq!(
+                    trace_bits(sim.outputs()),
+                    grid_bits[n as usize],
+                    "grid point {n}"
+                );
+                reached.push(n);
+            }
+            k += 1;
+        }
+        let missed: Vec<_> = impacts.iter().filter(|n| !reached.contains(n)).collect();
+        assert!(
+            missed.is_empty(),
+            "no communication point at the impacts {missed:?}"
+        );
+        assert_eq!(
+            in_loop + at_once,
+            impacts.len(),
+            "one early return per impact"
+        );
+        assert!(
+            in_loop > 0 && at_once > 0,
+            "{in_loop} in the loop, {at_once} at once"
+        );
+    }
+
+    /// Bits of corner1 and the energy of some outputs.
+    fn trace_bits(o: &Outputs) -> u64 {
+        o.corner1.to_bits() ^ o.energy_total.to_bits().rotate_left(1)
+    }
+
+    /// The vertex field: on the grid its free corners are the corner outputs and the clamp carries
+    /// the base; between grid points it and the displacement outputs are interpolated, and their
+    /// rates are the slope of that interpolation, so extrapolating with them lands on the next
+    /// grid point; with and without obstacles (the two ways the vertex values are read).
+    #[test]
+    fn the_vertex_field_and_the_rates_follow_the_interpolation() {
+        let (nx, ny) = (3, 2);
+        let (corner1, corner2) = (nx, nx + ny * (nx + 1));
+        for obstacles in [true, false] {
+            let mut scene = small(Scene::default());
+            scene.base.amplitude = 0.004;
+            scene.base.frequency = 35.0;
+            scene.obstacle.lower_enabled = obstacles;
+            scene.obstacle.upper_enabled = obstacles;
+            let mut sim = Simulation::new(&scene, 0.0, 0.0).unwrap();
+            assert_eq!(sim.displacement_rates(), [0.0; 3], "released at rest");
+            assert!(sim.vertex_field().rate.iter().all(|&r| r == 0.0));
+            for k in 0..40 {
+                step(&mut sim, 1e-4 * (0.3 + 2.0 * factor(k)), 0.0);
+                let o = sim.outputs().clone();
+                let field = sim.vertex_field().clone();
+                let rates = sim.displacement_rates();
+                assert_eq!(field.displacement.len(), (nx + 1) * (ny + 1));
+                // Two functionals of the same field (the point evaluation at the corner and
+                // the vertex value): equal to round-off, 1e-12 of the 4 mm amplitude.
+                let close = |a: f64, b: f64| (a - b).abs() <= 4e-15;
+                assert!(
+                    close(field.displacement[corner1], o.corner1),
+                    "{k}: corner1"
+                );
+                assert!(
+                    close(field.displacement[corner2], o.corner2),
+                    "{k}: corner2"
+                );
+                // Their difference over Δt = 1e-4 s.
+                let rate_gap = (field.rate[corner1] - rates[0]).abs();
+                assert!(rate_gap <= 8e-11, "{k}: rates differ by {rate_gap} m/s");
+                // The clamp follows the base: every clamp vertex has the same value.
+                let clamp: Vec<f64> = (0..=ny).map(|j| field.displacement[j * (nx + 1)]).collect();
+                assert!(clamp.iter().all(|&z| z == clamp[0]), "{clamp:?}");
+                let (t, t_grid) = (sim.time(), sim.grid_time());
+                if t != t_grid {
+                    let ahead = t_grid - t;
+                    let predicted = [
+                        o.corner1 + rates[0] * ahead,
+                        field.displacement[corner2] + field.rate[corner2] * ahead,
+                    ];
+                    step(&mut sim, ahead, 0.0);
+                    assert_eq!(sim.time(), sim.grid_time(), "snapped onto t_N");
+                    let landed = [
+                        sim.outputs().corner1,
+                        sim.vertex_field().displacement[corner2],
+                    ];
+                    for (p, l) in predicted.iter().zip(landed) {
+                        // Round-off of (a + (b − a)θ) + (b − a)(1 − θ): a few ulps of 4 mm.
+                        assert!((p - l).abs() <= 4e-15, "{k}: predicted {p}, landed {l}");
+                    }
+                    assert_eq!(
+                        sim.displacement_rates(),
+                        rates,
+                        "the same slope from the left"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -1,4 +1,5 @@
-"""Shared fixtures for the FMU tests: the packaged FMU and a thin driver around fmpy's FMU2Slave."""
+"""Shared fixtures for the FMU tests: the packaged FMUs (FMI 2.0 and FMI 3.0) and thin drivers
+around fmpy's FMU2Slave and FMU3Slave."""
 
 import json
 import os
@@ -15,6 +16,7 @@ from fmpy.fmi2 import (
     fmi2CallbackFunctions,
     fmi2CallbackLoggerTYPE,
 )
+from fmpy.fmi3 import FMU3Slave
 from fmpy.logging import addLoggerProxy
 from ctypes import byref
 
@@ -37,13 +39,29 @@ def fmu_path():
 
 
 @pytest.fixture(scope="session")
+def fmu3_path(fmu_path):
+    """The FMI 3.0 FMU, built with the FMI 2.0 one (or $PLATE_IMPACT_FMU3)."""
+    return os.environ.get("PLATE_IMPACT_FMU3") or str(ROOT / "target" / "fmu" / "PlateImpact-fmi3.fmu")
+
+
+@pytest.fixture(scope="session")
 def model_description(fmu_path):
     return read_model_description(fmu_path)
 
 
 @pytest.fixture(scope="session")
+def model_description3(fmu3_path):
+    return read_model_description(fmu3_path)
+
+
+@pytest.fixture(scope="session")
 def unzipdir(fmu_path, tmp_path_factory):
     return extract(fmu_path, unzipdir=str(tmp_path_factory.mktemp("fmu")))
+
+
+@pytest.fixture(scope="session")
+def unzipdir3(fmu3_path, tmp_path_factory):
+    return extract(fmu3_path, unzipdir=str(tmp_path_factory.mktemp("fmu3")))
 
 
 def scene_start_values(name):
@@ -136,18 +154,93 @@ class Plate:
         self.fmu.freeInstance()
 
 
-@pytest.fixture
-def new_plate(unzipdir, model_description):
+def instances(kind, unzipdir, model_description):
+    """A factory of `kind` instances (Plate or Plate3) for a fixture, and a finalizer freeing
+    every instance it made (ignoring those a test already freed)."""
     made = []
 
-    def make(name="plate", logging_on=False):
-        p = Plate(unzipdir, model_description, name, logging_on)
+    def make(*args, **kwargs):
+        p = kind(unzipdir, model_description, *args, **kwargs)
         made.append(p)
         return p
 
+    def free_all():
+        for p in made:
+            try:
+                p.free()
+            except Exception:
+                pass
+
+    return make, free_all
+
+
+@pytest.fixture
+def new_plate(unzipdir, model_description):
+    """Plate(name="plate", logging_on=False) instances, freed after the test."""
+    make, free_all = instances(Plate, unzipdir, model_description)
     yield make
-    for p in made:
-        try:
-            p.free()
-        except Exception:
-            pass
+    free_all()
+
+
+class Plate3:
+    """One FMI 3.0 instance driven through fmpy's FMU3Slave, collecting logged messages."""
+
+    def __init__(self, unzipdir, model_description, name="plate", early_return=False):
+        md = model_description
+        self.variables = {v.name: v for v in md.modelVariables}
+        self.messages = []
+
+        def log(_env, status, category, message):
+            self.messages.append((status, category.decode(), message.decode()))
+
+        self.fmu = FMU3Slave(
+            guid=md.guid,
+            unzipDirectory=unzipdir,
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName=name,
+        )
+        self.fmu.instantiate(earlyReturnAllowed=early_return, logMessage=log)
+        self.time = 0.0
+
+    def vr(self, name):
+        return self.variables[name].valueReference
+
+    def set(self, name, value):
+        setter = getattr(self.fmu, "set" + self.variables[name].type)
+        setter([self.vr(name)], [value])
+
+    def get(self, name):
+        variable = self.variables[name]
+        count = 1
+        for d in variable.dimensions:
+            count *= int(d.start) if d.start is not None else self.get(d.variable.name)
+        values = getattr(self.fmu, "get" + variable.type)([self.vr(name)], nValues=count)
+        return values if variable.dimensions else values[0]
+
+    def initialize(self, start_values=None, start=0.0, stop=None):
+        for name, value in (start_values or {}).items():
+            self.set(name, value)
+        self.fmu.enterInitializationMode(startTime=start, stopTime=stop)
+        self.fmu.exitInitializationMode()
+        self.time = start
+        return self
+
+    def step(self, h):
+        """One fmi3DoStep of h from the FMU time: (earlyReturn, lastSuccessfulTime)."""
+        _, _, early, reached = self.fmu.doStep(self.time, h)
+        self.time = reached
+        return early, reached
+
+    def errors(self):
+        return [m for s, c, m in self.messages if s >= 3]
+
+    def free(self):
+        self.fmu.freeInstance()
+
+
+@pytest.fixture
+def new_plate3(unzipdir3, model_description3):
+    """Plate3(name="plate", early_return=False) instances, freed after the test."""
+    make, free_all = instances(Plate3, unzipdir3, model_description3)
+    yield make
+    free_all()

@@ -1,7 +1,9 @@
 //! The FMI 2.0 Co-Simulation call-state machine as one table: for every function, the mask of
 //! states in which it may be called (FMI 2.0.x, "State Machine of Calling Sequence from Master to
-//! Slave"). Every entry point looks its function up once, before it does anything else.
+//! Slave"). Every entry point looks its function up once, before it reads or changes anything
+//! of the instance ([`crate::fmi::call_state`]).
 
+use crate::fmi::call_state::{call_functions, CallState, CallTable};
 use crate::fmi::model::Phase;
 use serde::{Deserialize, Serialize};
 
@@ -28,9 +30,8 @@ pub enum Mode {
     Fatal,
 }
 
-impl Mode {
-    /// Every state, in the standard's column order.
-    pub const ALL: [Mode; 9] = [
+impl CallState for Mode {
+    const ALL: &'static [Mode] = &[
         Mode::Instantiated,
         Mode::InitializationMode,
         Mode::StepComplete,
@@ -42,12 +43,7 @@ impl Mode {
         Mode::Fatal,
     ];
 
-    const fn bit(self) -> u16 {
-        1 << self as u16
-    }
-
-    /// The version-neutral phase of this state.
-    pub fn phase(self) -> Phase {
+    fn phase(self) -> Phase {
         match self {
             Mode::Instantiated => Phase::Instantiated,
             Mode::InitializationMode => Phase::Initialization,
@@ -59,8 +55,8 @@ impl Mode {
         }
     }
 
-    /// Whether this FMU can be in this state (it steps synchronously and never discards).
-    pub fn reachable(self) -> bool {
+    /// It steps synchronously and never discards.
+    fn reachable(self) -> bool {
         !matches!(
             self,
             Mode::StepInProgress | Mode::StepFailed | Mode::StepCanceled | Mode::Fatal
@@ -68,26 +64,18 @@ impl Mode {
     }
 }
 
-/// Declares [`Function`] and its list [`Function::ALL`] from one list of names.
-macro_rules! functions {
-    ($($name:ident,)*) => {
-        /// The FMI 2.0 functions that take an instance and return a status (fmi2FreeInstance
-        /// always frees; fmi2GetTypesPlatform, fmi2GetVersion and fmi2Instantiate take no
-        /// instance). Each is `fmi2` followed by its name.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-        #[allow(missing_docs)]
-        pub enum Function {
-            $($name,)*
-        }
-
-        impl Function {
-            /// Every function, in the standard's order.
-            pub const ALL: &[Function] = &[$(Function::$name,)*];
-        }
-    };
+impl Mode {
+    const fn bit(self) -> u16 {
+        1 << self as u16
+    }
 }
 
-functions! {
+call_functions! {
+    /// The FMI 2.0 functions that take an instance and return a status (fmi2FreeInstance
+    /// always frees; fmi2GetTypesPlatform, fmi2GetVersion and fmi2Instantiate take no
+    /// instance). Each is `fmi2` followed by its name.
+    /// `Function::ALL` lists them in the standard's order.
+    ;
     SetDebugLogging,
     SetupExperiment,
     EnterInitializationMode,
@@ -157,29 +145,17 @@ impl Function {
             }
         }
     }
+}
 
-    /// Whether the function may be called in `mode`.
-    pub fn allowed_in(self, mode: Mode) -> bool {
+impl CallTable for Function {
+    type Mode = Mode;
+
+    fn allowed_in(self, mode: Mode) -> bool {
         self.allowed() & mode.bit() != 0
     }
 
-    /// The C name, e.g. `fmi2DoStep`.
-    pub fn name(self) -> String {
+    fn name(self) -> String {
         format!("fmi2{self:?}")
-    }
-
-    /// Refuses a call in a state the table does not allow, naming the states that do.
-    pub fn check(self, mode: Mode) -> Result<(), String> {
-        if self.allowed_in(mode) {
-            return Ok(());
-        }
-        let allowed: Vec<Mode> = Mode::ALL
-            .into_iter()
-            .filter(|&m| m.reachable() && self.allowed_in(m))
-            .collect();
-        Err(format!(
-            "not allowed in the {mode:?} state (allowed in {allowed:?})"
-        ))
     }
 }
 
@@ -229,7 +205,7 @@ mod tests {
         for (&function, (name, row)) in Function::ALL.iter().zip(STANDARD) {
             assert_eq!(Function::ALL.len(), STANDARD.len());
             assert_eq!(function.name(), name);
-            for (mode, mark) in Mode::ALL.into_iter().zip(row.chars()) {
+            for (&mode, mark) in Mode::ALL.iter().zip(row.chars()) {
                 assert_eq!(function.allowed_in(mode), mark == 'x', "{name} in {mode:?}");
                 assert_eq!(function.check(mode).is_ok(), mark == 'x');
             }

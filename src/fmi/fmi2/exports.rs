@@ -17,8 +17,9 @@
 #![allow(non_snake_case, non_camel_case_types, clippy::missing_safety_doc)]
 
 use super::call_state::Function;
-use super::instance::{Instance, StoredState};
-use crate::fmi::ffi::{c_str, null_argument, panic_text, slice, slice_mut};
+use super::instance::Instance;
+use crate::fmi::c_api::{self, done, guarded};
+use crate::fmi::ffi::{c_str, null_argument, slice, slice_mut, to_cstring};
 use crate::fmi::logger::{LogSink, LOG_ERROR};
 use crate::fmi::plate::PlateModel;
 use crate::fmi::status::{Failure, Status};
@@ -28,8 +29,6 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// The instance type behind an `fmi2Component`: the generic FMI 2.0 instance driving the plate.
 pub type Component = Instance<PlateModel>;
-/// What an `fmi2FMUstate` points to.
-type State = StoredState<PlateModel>;
 
 const _: () = {
     const fn assert_send<T: Send>() {}
@@ -114,10 +113,6 @@ impl HostLogger {
     }
 }
 
-fn to_cstring(s: &str) -> CString {
-    CString::new(s.replace('\0', "\\0")).expect("NULs were replaced")
-}
-
 /// Runs `body` on the instance behind `c`: null check, panic barrier, status and logging.
 fn call(
     c: fmi2Component,
@@ -131,59 +126,7 @@ fn call(
     // from fmi2Instantiate (Box::into_raw) and not yet passed to fmi2FreeInstance; the host does
     // not call one instance from two threads at once, so this is the only reference.
     let inst = unsafe { &mut *(c as *mut Component) };
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        let result = body(&mut *inst);
-        inst.finish(function, result)
-    }));
-    let status = match outcome {
-        Ok(status) => status,
-        Err(payload) => {
-            let text = panic_text(payload.as_ref());
-            catch_unwind(AssertUnwindSafe(|| {
-                let failure = Failure::broken(format!(
-                    "internal error ({text}); the instance is now in the Error state: restore an FMU state, reset or free it"
-                ));
-                inst.set_error_mode();
-                inst.finish(function, Err(failure))
-            }))
-            .unwrap_or(Status::Error)
-        }
-    };
-    status as fmi2Status
-}
-
-/// A call that returns nothing but its success.
-fn done(result: Result<(), Failure>) -> Result<Status, Failure> {
-    result.map(|()| Status::Ok)
-}
-
-/// Stores `state` in the host's fmi2FMUstate variable: a new box if it is null, else in place.
-///
-/// # Safety
-/// `slot` must point to the host's fmi2FMUstate variable, holding null or a live state of this
-/// library (FMI: a non-null state is updated).
-unsafe fn store(slot: *mut fmi2FMUstate, state: State) {
-    // SAFETY: by the function's contract.
-    unsafe {
-        let slot = &mut *slot;
-        if slot.is_null() {
-            *slot = Box::into_raw(Box::new(state)) as fmi2FMUstate;
-        } else {
-            *(*slot as *mut State) = state;
-        }
-    }
-}
-
-/// The state behind a non-null fmi2FMUstate.
-///
-/// # Safety
-/// `state` must be null or a live state allocated by this library (FMI contract); it is only read.
-unsafe fn stored<'a>(state: fmi2FMUstate) -> Result<&'a State, Failure> {
-    if state.is_null() {
-        return Err(null_argument("FMUstate"));
-    }
-    // SAFETY: non-null, and by the contract a live `State` of this library.
-    Ok(unsafe { &*(state as *const State) })
+    guarded(inst, function, body) as fmi2Status
 }
 
 #[no_mangle]
@@ -204,16 +147,10 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     categories: *const fmi2String,
 ) -> fmi2Status {
     call(c, Function::SetDebugLogging, |inst| {
-        // SAFETY: FMI passes `n_categories` string pointers (the array may be null when 0).
-        let pointers = unsafe { slice(categories, n_categories, "categories") }?;
-        let mut names = Vec::with_capacity(pointers.len());
-        for &p in pointers {
-            // SAFETY: each entry is a NUL-terminated category name by the FMI contract.
-            let name = unsafe { c_str(p) }.ok_or_else(|| null_argument("categories[i]"))?;
-            names.push(name.into_owned());
+        // SAFETY: FMI passes `n_categories` NUL-terminated strings (the array may be null when 0).
+        unsafe {
+            c_api::set_debug_logging(inst, logging_on != FMI2_FALSE, n_categories, categories)
         }
-        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        done(inst.set_debug_logging(logging_on != FMI2_FALSE, &refs))
     })
 }
 
@@ -455,13 +392,8 @@ pub unsafe extern "C" fn fmi2SetString(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
     call(c, Function::GetFMUstate, |inst| {
-        if state.is_null() {
-            return Err(null_argument("FMUstate"));
-        }
-        let snapshot = inst.get_state()?;
-        // SAFETY: `state` is non-null and points to the host's fmi2FMUstate variable.
-        unsafe { store(state, snapshot) };
-        Ok(Status::Ok)
+        // SAFETY: `state` points to the host's fmi2FMUstate variable (FMI contract).
+        unsafe { c_api::get_fmu_state(inst, state) }
     })
 }
 
@@ -469,8 +401,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
     call(c, Function::SetFMUstate, |inst| {
         // SAFETY: a non-null fmi2FMUstate is a live state of this library (FMI contract).
-        let state = unsafe { stored(state) }?;
-        done(inst.set_state(state))
+        unsafe { c_api::set_fmu_state(inst, state) }
     })
 }
 
@@ -480,21 +411,9 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
     call(c, Function::FreeFMUstate, |inst| {
-        inst.free_state()?;
-        if state.is_null() {
-            return Ok(Status::Ok);
-        }
-        // SAFETY: `state` points to the host's fmi2FMUstate variable; a non-null value is a Box
-        // this library leaked and FMI forbids using it after this call, so it is freed once and
-        // the variable set to null.
-        unsafe {
-            let slot = &mut *state;
-            if !slot.is_null() {
-                drop(Box::from_raw(*slot as *mut State));
-                *slot = std::ptr::null_mut();
-            }
-        }
-        Ok(Status::Ok)
+        // SAFETY: `state` points to the host's fmi2FMUstate variable, which FMI forbids using
+        // after this call.
+        unsafe { c_api::free_fmu_state(inst, state) }
     })
 }
 
@@ -505,17 +424,9 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     size: *mut size_t,
 ) -> fmi2Status {
     call(c, Function::SerializedFMUstateSize, |inst| {
-        if size.is_null() {
-            return Err(null_argument("size"));
-        }
-        // SAFETY: a non-null fmi2FMUstate is a live state of this library (FMI contract).
-        let state = unsafe { stored(state) }?;
-        let n = inst
-            .serialized(Function::SerializedFMUstateSize, state)?
-            .len();
-        // SAFETY: `size` is non-null and points to the host's size_t.
-        unsafe { *size = n };
-        Ok(Status::Ok)
+        // SAFETY: a non-null fmi2FMUstate is a live state of this library and `size` the host's
+        // size_t (FMI contract).
+        unsafe { c_api::serialized_size(inst, Function::SerializedFMUstateSize, state, size) }
     })
 }
 
@@ -527,20 +438,10 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     size: size_t,
 ) -> fmi2Status {
     call(c, Function::SerializeFMUstate, |inst| {
-        // SAFETY: a non-null fmi2FMUstate is a live state of this library (FMI contract).
-        let state = unsafe { stored(state) }?;
-        let bytes = inst.serialized(Function::SerializeFMUstate, state)?;
-        if size < bytes.len() {
-            return Err(Failure::refused(format!(
-                "the buffer holds {size} bytes, the serialized state needs {} (ask fmi2SerializedFMUstateSize)",
-                bytes.len()
-            )));
-        }
-        // SAFETY: FMI passes a writable buffer of `size` >= bytes.len() bytes.
-        let out =
-            unsafe { slice_mut(serialized_state as *mut u8, bytes.len(), "serializedState")? };
-        out.copy_from_slice(bytes);
-        Ok(Status::Ok)
+        let (function, buffer) = (Function::SerializeFMUstate, serialized_state as *mut u8);
+        // SAFETY: a non-null fmi2FMUstate is a live state of this library and the buffer holds
+        // `size` writable bytes (FMI contract).
+        unsafe { c_api::serialize(inst, function, state, buffer, size) }
     })
 }
 
@@ -552,15 +453,10 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
     call(c, Function::DeSerializeFMUstate, |inst| {
-        if state.is_null() {
-            return Err(null_argument("FMUstate"));
-        }
-        // SAFETY: FMI passes `size` readable bytes (any content: it is checked by decode).
-        let bytes = unsafe { slice(serialized_state as *const u8, size, "serializedState")? };
-        let snapshot = inst.deserialize_state(bytes)?;
-        // SAFETY: `state` is non-null and points to the host's fmi2FMUstate variable.
-        unsafe { store(state, snapshot) };
-        Ok(Status::Ok)
+        let bytes = serialized_state as *const u8;
+        // SAFETY: FMI passes `size` readable bytes (any content: they are checked) and the host's
+        // fmi2FMUstate variable.
+        unsafe { c_api::deserialize(inst, bytes, size, state) }
     })
 }
 
@@ -603,13 +499,21 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: size_t,
-    _order: *const fmi2Integer,
-    _value: *mut fmi2Real,
+    vr: *const fmi2ValueReference,
+    nvr: size_t,
+    order: *const fmi2Integer,
+    value: *mut fmi2Real,
 ) -> fmi2Status {
     call(c, Function::GetRealOutputDerivatives, |inst| {
-        done(inst.get_real_output_derivatives())
+        // SAFETY: FMI passes three arrays of `nvr` elements.
+        let (vr, order, value) = unsafe {
+            (
+                slice(vr, nvr, "vr")?,
+                slice(order, nvr, "order")?,
+                slice_mut(value, nvr, "value")?,
+            )
+        };
+        done(inst.output_derivatives(vr, order, value))
     })
 }
 

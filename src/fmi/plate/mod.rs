@@ -1,12 +1,14 @@
 //! The plate's model binding: the FMU variables ↔ a [`Scene`] (parameters), the external base
-//! displacement (input) and the [`Outputs`](crate::simulation::Outputs) of a [`Simulation`]; the
-//! experiment; the communication step; the FMU state and its validation. It knows nothing of a
-//! particular FMI version (see [`crate::fmi::model`]).
+//! displacement (input) and the [`Outputs`](crate::simulation::Outputs), the vertex field and the
+//! displacement rates of a [`Simulation`]; the experiment; the communication step (ended early at
+//! an impact when the importer allows it); the FMU state and its validation. It knows nothing of
+//! a particular FMI version (see [`crate::fmi::model`]); both versions' descriptions declare the
+//! same variables, with the same value references, which is what it binds.
 //!
 //! The simulation is set up lazily: sets before the end of initialization only change the
-//! parameters; the set-up runs when an output is read in Initialization mode or at
-//! fmi2ExitInitializationMode, and a second set-up reuses the assembled plate when no fixed
-//! parameter changed ([`Simulation::restart`]). Outputs are computed once per state and cached.
+//! parameters; the set-up runs when an output is read in Initialization mode or at the exit of
+//! initialization, and a second set-up reuses the assembled plate when no fixed parameter changed
+//! ([`Simulation::restart`]). Outputs are computed once per state and cached.
 
 mod snapshot;
 mod values;
@@ -15,9 +17,9 @@ pub use snapshot::PlateSnapshot;
 
 use crate::fmi::ffi::panic_text;
 use crate::fmi::logger::{Logger, LOG_WARNING};
-use crate::fmi::model::{Model, Phase, Value};
+use crate::fmi::model::{Array, Derivative, Model, Phase, StepOptions, StepOutcome, Value};
 use crate::fmi::status::{Failure, Status};
-use crate::fmi::variables::{self, vr, Causality, Start, Variable};
+use crate::fmi::variables::{self, vr, Causality, Description, Start, Variable};
 use crate::scene::Scene;
 use crate::simulation::grid::TimeGrid;
 use crate::simulation::input::InputSample;
@@ -28,8 +30,18 @@ use values::{first_non_finite, first_past_obstacle};
 /// Log category of contact events: vertices entering or leaving contact, and the solver path.
 pub const LOG_CONTACT: &str = "logContact";
 
-/// Relative tolerance between the host's communication point and the FMU time.
+/// Relative tolerance between the host's communication point and the FMU time, and between the
+/// end of a step and the stop time.
 const TIME_TOLERANCE: f64 = 1e-9;
+
+/// Whether a communication time `now` lies beyond the stop time `stop` of an experiment that
+/// starts at `start` with internal step `dt`: now > stop + 1e-9·max(|stop|, stop − start, Δt),
+/// forgiving a host's round-off in t + h relative to the experiment's scale (any step of it has
+/// h ≤ stop − start). fmi2DoStep refuses such a step and a restored FMU state such a time with
+/// this one rule, so that every state a step reaches can be restored.
+fn beyond_stop_time(now: f64, start: f64, stop: f64, dt: f64) -> bool {
+    now > stop + TIME_TOLERANCE * stop.abs().max(stop - start).max(dt)
+}
 
 /// The staged values of a set: the parameters and the input.
 pub struct Draft {
@@ -56,7 +68,10 @@ pub struct PlateModel {
 
 /// Start value of the input `base.displacement`.
 fn input_start() -> f64 {
-    match variables::by_name("base.displacement").and_then(|v| v.start.clone()) {
+    match variables::FMI2
+        .by_name("base.displacement")
+        .and_then(|v| v.start.clone())
+    {
         Some(Start::Real(x)) => x,
         _ => 0.0,
     }
@@ -130,6 +145,40 @@ impl PlateModel {
             .as_mut()
             .ok_or_else(|| Failure::refused("the simulation is not available: it was never set up"))
     }
+
+    /// The simulation whose outputs may be read in `phase` (set up first in Initialization mode),
+    /// refused when they are unsound.
+    fn readable_simulation(&mut self, phase: Phase) -> Result<&Simulation, Failure> {
+        let sim = if phase == Phase::Initialization {
+            self.ensure_simulation()?
+        } else {
+            self.running_simulation()?
+        };
+        match unsound_outputs(sim) {
+            Some(message) => Err(Failure::refused(message)),
+            None => Ok(sim),
+        }
+    }
+}
+
+/// The shape of the displacement field of `sim`: (ny + 1) rows along y × (nx + 1) columns along
+/// x, the mesh's vertex order.
+fn field_shape(sim: &Simulation) -> Vec<u64> {
+    let mesh = &sim.scene().mesh;
+    vec![mesh.ny as u64 + 1, mesh.nx as u64 + 1]
+}
+
+/// `values` of output `name` at the time of `sim`, or a refusal naming the first that is not
+/// finite.
+fn finite<'a>(sim: &Simulation, name: &str, values: &'a [f64]) -> Result<&'a [f64], Failure> {
+    match values.iter().position(|x| !x.is_finite()) {
+        None => Ok(values),
+        Some(k) => Err(Failure::refused(format!(
+            "{name}[{k}] = {} at t = {} s is not finite",
+            values[k],
+            sim.time()
+        ))),
+    }
 }
 
 /// Logs what the host should know of one internal step: vertices entering or leaving contact
@@ -169,9 +218,8 @@ impl Model for PlateModel {
     type Draft = Draft;
     type Snapshot = PlateSnapshot;
 
-    const GUID: &'static str = variables::GUID;
-    const LOG_CATEGORIES: &'static [&'static str] = variables::LOG_CATEGORIES;
-    const VARIABLES: &'static [Variable] = variables::VARIABLES;
+    const FMI2: &'static Description = &variables::FMI2;
+    const FMI3: &'static Description = &variables::FMI3;
 
     fn new() -> PlateModel {
         PlateModel {
@@ -220,19 +268,56 @@ impl Model for PlateModel {
     fn get(&mut self, v: &Variable, phase: Phase) -> Result<Value, Failure> {
         match v.causality {
             Causality::Output => {
-                let sim = if phase == Phase::Initialization {
-                    self.ensure_simulation()?
-                } else {
-                    self.running_simulation()?
-                };
-                if let Some(message) = unsound_outputs(sim) {
-                    return Err(Failure::refused(message));
-                }
+                let sim = self.readable_simulation(phase)?;
                 values::output(sim.outputs(), sim.contact(), v)
             }
             Causality::Input => Ok(Value::Real(self.input)),
             _ => values::parameter(&self.parameters, v),
         }
+    }
+
+    fn get_array(&mut self, v: &Variable, phase: Phase) -> Result<Array<'_>, Failure> {
+        if v.vr != vr::PLATE_DISPLACEMENT {
+            return Err(Failure::refused(format!(
+                "{} has no array binding (internal error)",
+                v.name
+            )));
+        }
+        let sim = self.readable_simulation(phase)?;
+        Ok(Array {
+            shape: field_shape(sim),
+            values: finite(sim, v.name, &sim.vertex_field().displacement)?,
+        })
+    }
+
+    fn output_derivative(
+        &mut self,
+        v: &Variable,
+        order: i32,
+        phase: Phase,
+    ) -> Result<Derivative<'_>, Failure> {
+        let point = values::displacement_point(v);
+        if v.vr != vr::PLATE_DISPLACEMENT && point.is_none() {
+            return Err(Failure::refused(format!(
+                "{} has no derivative: this FMU gives d/dt of the displacement outputs only ({})",
+                v.name,
+                values::DISPLACEMENT_OUTPUTS.join(", ")
+            )));
+        }
+        if order != 1 {
+            return Err(Failure::refused(format!(
+                "the derivative of order {order} of {} is not provided: order 1 only (maxOutputDerivativeOrder = 1)",
+                v.name
+            )));
+        }
+        let sim = self.readable_simulation(phase)?;
+        Ok(match point {
+            Some(k) => Derivative::Scalar(sim.displacement_rates()[k]),
+            None => Derivative::Array(Array {
+                shape: field_shape(sim),
+                values: finite(sim, v.name, &sim.vertex_field().rate)?,
+            }),
+        })
     }
 
     fn draft(&self) -> Draft {
@@ -317,7 +402,13 @@ impl Model for PlateModel {
         Ok(())
     }
 
-    fn do_step(&mut self, t: f64, h: f64, log: &mut Logger) -> Result<Status, Failure> {
+    fn do_step(
+        &mut self,
+        t: f64,
+        h: f64,
+        options: StepOptions,
+        log: &mut Logger,
+    ) -> Result<StepOutcome, Failure> {
         let stop_time = self.stop_time;
         let sample = InputSample {
             value: self.input,
@@ -341,14 +432,14 @@ impl Model for PlateModel {
         })?;
         let end_time = grid.start + end.elapsed(grid);
         if let Some(stop) = stop_time {
-            if end_time > stop + TIME_TOLERANCE * stop.abs().max(h) {
+            if beyond_stop_time(end_time, grid.start, stop, grid.step) {
                 return Err(Failure::refused(format!(
                     "the step to t = {end_time} s goes beyond stopTime = {stop} s set by fmi2SetupExperiment"
                 )));
             }
         }
         let mut observer = |step: &InternalStep| report_internal_step(log, step);
-        let summary = sim.advance(&end, &sample, &mut observer);
+        let summary = sim.advance(&end, &sample, options.early_return, &mut observer);
         let at = sim.time();
         let summary = summary.map_err(|e| {
             Failure::broken(format!(
@@ -361,10 +452,13 @@ impl Model for PlateModel {
             )));
         }
         self.input_derivatives = [None, None];
-        Ok(if summary.degraded_steps > 0 {
-            Status::Warning
-        } else {
-            Status::Ok
+        Ok(StepOutcome {
+            status: if summary.degraded_steps > 0 {
+                Status::Warning
+            } else {
+                Status::Ok
+            },
+            early_return: summary.stopped_at_impact,
         })
     }
 
@@ -447,7 +541,7 @@ mod tests {
                 .unwrap()
                 .push((status, category.to_string(), message.to_string()))
         });
-        let mut log = Logger::new(Some(sink), variables::LOG_CATEGORIES, false);
+        let mut log = Logger::new(Some(sink), variables::FMI2.log_categories, false);
         let report = StepReport {
             active: 3,
             path: StepPath::ClarabelFallback,

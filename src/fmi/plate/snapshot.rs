@@ -1,9 +1,9 @@
 //! The plate model's FMU state and its validation as untrusted input.
 
-use super::{check_experiment, values, TIME_TOLERANCE};
+use super::{beyond_stop_time, check_experiment, values};
 use crate::fmi::model::Phase;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{Causality, VARIABLES};
+use crate::fmi::variables::{Causality, FMI2};
 use crate::scene::Scene;
 use crate::simulation::grid::TimeGrid;
 use crate::simulation::SimulationState;
@@ -43,7 +43,8 @@ impl PlateSnapshot {
     /// codes, vertices inside the obstacles) are checked when it is restored.
     pub fn validate(&self, phase: Phase) -> Result<(), Failure> {
         let mut rebuilt = Scene::default();
-        for v in VARIABLES
+        for v in FMI2
+            .variables
             .iter()
             .filter(|v| v.causality == Causality::Parameter)
         {
@@ -114,7 +115,7 @@ impl PlateSnapshot {
         let elapsed = state.point.elapsed(&grid, n);
         let now = grid.start + elapsed;
         if let Some(stop) = self.stop_time {
-            if now > stop + TIME_TOLERANCE * stop.abs().max(grid.step) {
+            if beyond_stop_time(now, grid.start, stop, grid.step) {
                 return Err(refused(format!(
                     "its simulation is at t = {now} s (grid step {n}), beyond stopTime = {stop} s"
                 )));

@@ -7,10 +7,10 @@ use crate::element::ElementKind;
 use crate::error::Error;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{vr, Kind, Variable, VARIABLES};
+use crate::fmi::variables::{vr, Kind, Variable, FMI2};
 use crate::scene::Scene;
 use crate::simulation::contact_summary::ContactSummary;
-use crate::simulation::{Outputs, BOUND_TOLERANCE};
+use crate::simulation::{bound_tolerance, Outputs};
 
 /// The integer code of `mesh.element` for each element family.
 pub fn element_code(kind: ElementKind) -> i32 {
@@ -50,7 +50,7 @@ pub fn parameter(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
                 .and_then(|i| i32::try_from(i).ok())
                 .ok_or_else(internal)?,
         ),
-        Kind::String => return Err(internal()),
+        Kind::String | Kind::UInt64 => return Err(internal()),
     })
 }
 
@@ -77,6 +77,12 @@ fn json_value(v: &Variable, value: Value) -> Result<serde_json::Value, Failure> 
             return Err(Error::invalid(v.name, i, "must be a positive integer").into())
         }
         Value::Integer(i) => serde_json::Value::from(i),
+        Value::UInt64(_) => {
+            return Err(Failure::refused(format!(
+                "{} cannot take the value {value:?}",
+                v.name
+            )))
+        }
     })
 }
 
@@ -155,6 +161,27 @@ pub fn output(outputs: &Outputs, contact: &ContactSummary, v: &Variable) -> Resu
     })
 }
 
+/// The displacement outputs with a derivative, in the order of
+/// [`Simulation::displacement_rates`](crate::simulation::Simulation::displacement_rates), and the
+/// array output of every vertex.
+pub const DISPLACEMENT_OUTPUTS: [&str; 4] = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "edge_mid.displacement",
+    "plate.displacement",
+];
+
+/// The index of scalar displacement output `v` among the rates, if it is one.
+pub fn displacement_point(v: &Variable) -> Option<usize> {
+    [
+        vr::CORNER1_DISPLACEMENT,
+        vr::CORNER2_DISPLACEMENT,
+        vr::EDGE_MID_DISPLACEMENT,
+    ]
+    .iter()
+    .position(|&r| r == v.vr)
+}
+
 /// The first Real output of `outputs` and `contact` that is not finite, as (variable name, value).
 pub fn first_non_finite(
     outputs: &Outputs,
@@ -163,21 +190,19 @@ pub fn first_non_finite(
     REAL_OUTPUTS.iter().find_map(|&(r, read)| {
         let x = read(outputs, contact);
         (!x.is_finite()).then(|| {
-            let name = VARIABLES.iter().find(|v| v.vr == r).map_or("?", |v| v.name);
+            let name = FMI2.variable(r).map_or("?", |v| v.name);
             (name, x)
         })
     })
 }
 
 /// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
-/// more than [`BOUND_TOLERANCE`] of the gap, as (variable name, value, obstacle level). With
-/// restitution e > 0 the bound holds for (u_{n+1} + e u_{n−1})/(1 + e), not for u: no check then.
+/// more than [`bound_tolerance`] (a fraction of the gap), as (variable name, value, obstacle
+/// level). Every impact law keeps every level within the obstacles, so the check holds for every
+/// restitution e.
 pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static str, f64, f64)> {
-    if scene.solver.restitution != 0.0 {
-        return None;
-    }
     let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let tolerance = BOUND_TOLERANCE * (upper.unwrap_or(1.0) - lower.unwrap_or(-1.0));
+    let tolerance = bound_tolerance(scene);
     [
         ("corner1.displacement", outputs.corner1),
         ("corner2.displacement", outputs.corner2),
@@ -193,14 +218,19 @@ pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fmi::variables::{by_name, Causality, Start};
+    use crate::fmi::variables::{Causality, Start, FMI3};
+
+    fn by_name(name: &str) -> Option<&'static Variable> {
+        FMI2.by_name(name)
+    }
 
     /// The description's start values are the scene defaults: the two cannot drift.
     #[test]
     fn start_values_equal_scene_defaults() {
         let scene = Scene::default();
         let mut parameters = 0;
-        for v in VARIABLES
+        for v in FMI2
+            .variables
             .iter()
             .filter(|v| v.causality == Causality::Parameter)
         {
@@ -216,18 +246,33 @@ mod tests {
         assert_eq!(parameters, 21, "docs/fmu.md lists 21 parameters");
     }
 
+    /// FMI 3.0 sizes plate.displacement by its structural parameters: their starts are the vertex
+    /// rows and columns of the default mesh, so that the declared shape fits without configuring.
+    #[test]
+    fn the_field_sizes_start_at_the_default_mesh() {
+        let scene = Scene::default();
+        let start = |name| match FMI3.by_name(name).and_then(|v| v.start.clone()) {
+            Some(Start::Integer(n)) => n,
+            other => panic!("{name}: unexpected start {other:?}"),
+        };
+        assert_eq!(start("mesh.vertex_rows"), scene.mesh.ny as i64 + 1);
+        assert_eq!(start("mesh.vertex_columns"), scene.mesh.nx as i64 + 1);
+    }
+
     /// Every output variable has a binding, and the finiteness guard covers every Real output.
     #[test]
     fn every_output_is_bound_and_guarded() {
         let mut outputs = Outputs::default();
         let mut contact = ContactSummary::default();
-        for v in VARIABLES
+        for v in FMI2
+            .variables
             .iter()
             .filter(|v| v.causality == Causality::Output)
         {
             output(&outputs, &contact, v).unwrap();
         }
-        let real_outputs = VARIABLES
+        let real_outputs = FMI2
+            .variables
             .iter()
             .filter(|v| v.causality == Causality::Output && v.kind == Kind::Real)
             .count();

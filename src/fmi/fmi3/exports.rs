@@ -1,0 +1,998 @@
+//! The exported FMI 3.0 C functions: every function of `fmi3Functions.h`, with its exact C
+//! signature (the types below carry the names of `fmi3PlatformTypes.h` and `fmi3FunctionTypes.h`,
+//! and `tests/fmu/test_fmi3_abi.py` compiles each exported prototype against the official header,
+//! so a wrong signature fails that build). Those of features this FMU does not offer (Model
+//! Exchange, Scheduled Execution, Event Mode, clocks, directional and adjoint derivatives,
+//! per-element dependencies) are checked against the call-state table and refused with fmi3Error
+//! and a message.
+//!
+//! Each function checks its pointers (a null instance returns fmi3Error; a null array with a
+//! non-zero length is reported through the logger), runs the safe [`Instance`] method inside
+//! `catch_unwind` so that no panic crosses the C boundary, and returns its status. An
+//! `fmi3Instance` is a `Box<Component>` and an `fmi3FMUState` a `Box<StoredState>`, both turned
+//! into raw pointers that the host hands back; FMI forbids using them after they are freed.
+//!
+//! # Safety
+//! Every function requires what the FMI 3.0 standard requires of its caller: an `fmi3Instance`
+//! returned by fmi3InstantiateCoSimulation and not yet freed, used by one thread at a time;
+//! arrays valid for the lengths passed; NUL-terminated strings; `fmi3FMUState` values this library
+//! allocated and that were not freed. The functions are public so that tests can drive them as a
+//! host would.
+
+// The names are the standard's; the safety contract is stated once above, not per function.
+#![allow(non_snake_case, non_camel_case_types, clippy::missing_safety_doc)]
+
+use super::call_state::Function;
+use super::instance::Instance;
+use crate::fmi::c_api::{self, done, guarded};
+use crate::fmi::ffi::{c_str, null_argument, slice, slice_mut, to_cstring};
+use crate::fmi::logger::{LogSink, LOG_ERROR};
+use crate::fmi::plate::PlateModel;
+use crate::fmi::status::{Failure, Status};
+use libc::{c_char, c_int, c_void, size_t};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+pub type fmi3Instance = *mut c_void;
+pub type fmi3InstanceEnvironment = *mut c_void;
+pub type fmi3FMUState = *mut c_void;
+pub type fmi3ValueReference = u32;
+pub type fmi3Float32 = f32;
+pub type fmi3Float64 = f64;
+pub type fmi3Int8 = i8;
+pub type fmi3UInt8 = u8;
+pub type fmi3Int16 = i16;
+pub type fmi3UInt16 = u16;
+pub type fmi3Int32 = i32;
+pub type fmi3UInt32 = u32;
+pub type fmi3Int64 = i64;
+pub type fmi3UInt64 = u64;
+/// C `bool`, which Rust's `bool` matches in size, alignment and values.
+pub type fmi3Boolean = bool;
+pub type fmi3Char = c_char;
+pub type fmi3String = *const fmi3Char;
+pub type fmi3Byte = u8;
+pub type fmi3Binary = *const fmi3Byte;
+pub type fmi3Clock = bool;
+/// The C enums of `fmi3FunctionTypes.h`, int-sized.
+pub type fmi3Status = c_int;
+pub type fmi3DependencyKind = c_int;
+pub type fmi3IntervalQualifier = c_int;
+
+/// The host's logger: (environment, status, category, message).
+pub type fmi3LogMessageCallback =
+    Option<unsafe extern "C" fn(fmi3InstanceEnvironment, fmi3Status, fmi3String, fmi3String)>;
+/// The host's intermediate-update callback (not called: providesIntermediateUpdate = false).
+pub type fmi3IntermediateUpdateCallback = Option<
+    unsafe extern "C" fn(
+        fmi3InstanceEnvironment,
+        fmi3Float64,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Float64,
+    ),
+>;
+/// Scheduled Execution's clock callback (Scheduled Execution is not offered).
+pub type fmi3ClockUpdateCallback = Option<unsafe extern "C" fn(fmi3InstanceEnvironment)>;
+/// Scheduled Execution's preemption callbacks (Scheduled Execution is not offered).
+pub type fmi3LockPreemptionCallback = Option<unsafe extern "C" fn()>;
+/// See [`fmi3LockPreemptionCallback`].
+pub type fmi3UnlockPreemptionCallback = Option<unsafe extern "C" fn()>;
+
+// The sizes fmi3PlatformTypes.h gives its types (the names are checked against the header by
+// tests/fmu/test_fmi3_abi.py, the sizes here).
+const _: () = {
+    use std::mem::size_of;
+    assert!(size_of::<fmi3ValueReference>() == 4 && size_of::<fmi3Float32>() == 4);
+    assert!(size_of::<fmi3Float64>() == 8 && size_of::<fmi3Int8>() == 1);
+    assert!(size_of::<fmi3UInt8>() == 1 && size_of::<fmi3Int16>() == 2);
+    assert!(size_of::<fmi3UInt16>() == 2 && size_of::<fmi3Int32>() == 4);
+    assert!(size_of::<fmi3UInt32>() == 4 && size_of::<fmi3Int64>() == 8);
+    assert!(size_of::<fmi3UInt64>() == 8 && size_of::<fmi3Boolean>() == 1);
+    assert!(size_of::<fmi3Byte>() == 1 && size_of::<fmi3Clock>() == 1);
+    assert!(size_of::<fmi3Status>() == size_of::<c_int>());
+};
+
+const ERROR: fmi3Status = Status::Error as fmi3Status;
+
+/// Why the functions of Event Mode are refused.
+const NO_EVENT_MODE: &str =
+    "this FMU has no Event Mode (hasEventMode = false): impacts are resolved inside the scheme, and fmi3DoStep returns early at them when the importer allows it";
+/// Why the clock functions are refused.
+const NO_CLOCKS: &str = "this FMU has no clocks";
+
+/// The instance behind an `fmi3Instance`: the generic FMI 3.0 instance driving the plate, and
+/// what the importer chose at instantiation.
+pub struct Component {
+    instance: Instance<PlateModel>,
+    /// `earlyReturnAllowed` of fmi3InstantiateCoSimulation.
+    early_return_allowed: bool,
+}
+
+const _: () = {
+    const fn assert_send<T: Send>() {}
+    assert_send::<Component>();
+};
+
+/// The host's logger callback, bound to one instance.
+struct HostLogger {
+    logger: unsafe extern "C" fn(fmi3InstanceEnvironment, fmi3Status, fmi3String, fmi3String),
+    environment: fmi3InstanceEnvironment,
+}
+
+// SAFETY: the environment pointer is opaque to us and only handed back to the host's logger;
+// FMI 3.0 lets the host call an instance from any thread (one at a time), and the logger must then
+// accept calls from that thread, so moving the pointer with the instance is what FMI requires.
+unsafe impl Send for HostLogger {}
+
+impl HostLogger {
+    fn send(&self, status: Status, category: &str, message: &str) {
+        let category = to_cstring(category);
+        let message = to_cstring(message);
+        // SAFETY: `logger` came from fmi3InstantiateCoSimulation and FMI requires it to stay
+        // callable for the life of the instance; both strings are valid NUL-terminated CStrings
+        // alive for the call (the host copies what it keeps).
+        unsafe {
+            (self.logger)(
+                self.environment,
+                status as fmi3Status,
+                category.as_ptr(),
+                message.as_ptr(),
+            );
+        }
+    }
+}
+
+/// Runs `body` on the instance behind `c`: null check, panic barrier, status and logging.
+fn call(
+    c: fmi3Instance,
+    function: Function,
+    body: impl FnOnce(&mut Instance<PlateModel>, bool) -> Result<Status, Failure>,
+) -> fmi3Status {
+    if c.is_null() {
+        return ERROR;
+    }
+    // SAFETY: a non-null fmi3Instance is, by the FMI contract, a pointer this library returned
+    // from fmi3InstantiateCoSimulation (Box::into_raw) and not yet passed to fmi3FreeInstance;
+    // the host does not call one instance from two threads at once, so this is the only
+    // reference.
+    let component = unsafe { &mut *(c as *mut Component) };
+    let early_return_allowed = component.early_return_allowed;
+    guarded(&mut component.instance, function, |inst| {
+        body(inst, early_return_allowed)
+    }) as fmi3Status
+}
+
+/// A call of a function this FMU does not offer: refused with `why`.
+fn not_provided(c: fmi3Instance, function: Function, why: &str) -> fmi3Status {
+    call(c, function, |inst, _| {
+        done(inst.not_provided(function, why))
+    })
+}
+
+/// A get or set of a type this FMU has no variable of: with value references, refused naming
+/// what they are; without, checked and done.
+///
+/// # Safety
+/// `vrs` must be null or point to `n` value references.
+unsafe fn absent_type(
+    c: fmi3Instance,
+    function: Function,
+    vrs: *const fmi3ValueReference,
+    n: size_t,
+) -> fmi3Status {
+    call(c, function, |inst, _| {
+        // SAFETY: by the function's contract.
+        let vrs = unsafe { slice(vrs, n, "valueReferences")? };
+        done(inst.check_absent_kind(function, &[], vrs))
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3GetVersion() -> *const c_char {
+    c"3.0".as_ptr()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetDebugLogging(
+    instance: fmi3Instance,
+    loggingOn: fmi3Boolean,
+    nCategories: size_t,
+    categories: *const fmi3String,
+) -> fmi3Status {
+    call(instance, Function::SetDebugLogging, |inst, _| {
+        // SAFETY: FMI passes `nCategories` NUL-terminated strings (the array may be null when 0).
+        unsafe { c_api::set_debug_logging(inst, loggingOn, nCategories, categories) }
+    })
+}
+
+/// Sends `message` to the host's logger, if any, as an error under logStatusError.
+fn report(logger: fmi3LogMessageCallback, environment: fmi3InstanceEnvironment, message: &str) {
+    if let Some(logger) = logger {
+        HostLogger {
+            logger,
+            environment,
+        }
+        .send(Status::Error, LOG_ERROR, message);
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateModelExchange(
+    _instanceName: fmi3String,
+    _instantiationToken: fmi3String,
+    _resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    _loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    let message = "fmi3InstantiateModelExchange: this FMU supports Co-Simulation only (fmi3InstantiateCoSimulation)";
+    let _ = catch_unwind(|| report(logMessage, instanceEnvironment, message));
+    std::ptr::null_mut()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
+    instanceName: fmi3String,
+    instantiationToken: fmi3String,
+    _resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    loggingOn: fmi3Boolean,
+    eventModeUsed: fmi3Boolean,
+    earlyReturnAllowed: fmi3Boolean,
+    requiredIntermediateVariables: *const fmi3ValueReference,
+    nRequiredIntermediateVariables: size_t,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+    _intermediateUpdate: fmi3IntermediateUpdateCallback,
+) -> fmi3Instance {
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        let fail = |message: &str| {
+            report(
+                logMessage,
+                instanceEnvironment,
+                &format!("fmi3InstantiateCoSimulation: {message}"),
+            );
+            std::ptr::null_mut()
+        };
+        // SAFETY: FMI passes NUL-terminated strings (or null, checked inside).
+        let name = unsafe { c_str(instanceName) }
+            .map(|s| s.into_owned())
+            .unwrap_or_default();
+        if name.trim().is_empty() {
+            return fail("instanceName must be a non-empty string");
+        }
+        if eventModeUsed {
+            return fail(NO_EVENT_MODE);
+        }
+        if nRequiredIntermediateVariables > 0 {
+            return fail(&format!(
+                "requiredIntermediateVariables lists {nRequiredIntermediateVariables} variables, but this FMU provides no intermediate update (providesIntermediateUpdate = false)"
+            ));
+        }
+        let _ = requiredIntermediateVariables;
+        // SAFETY: as for the name.
+        let token = unsafe { c_str(instantiationToken) }
+            .map(|s| s.into_owned())
+            .unwrap_or_default();
+        let sink: Option<LogSink> = logMessage.map(|logger| {
+            let host = HostLogger {
+                logger,
+                environment: instanceEnvironment,
+            };
+            Box::new(move |status: Status, category: &str, message: &str| {
+                host.send(status, category, message)
+            }) as LogSink
+        });
+        match Instance::<PlateModel>::new(&name, &token, loggingOn, sink) {
+            Ok(instance) => Box::into_raw(Box::new(Component {
+                instance,
+                early_return_allowed: earlyReturnAllowed,
+            })) as fmi3Instance,
+            Err((sink, message)) => {
+                if let Some(mut sink) = sink {
+                    sink(Status::Error, LOG_ERROR, &message);
+                }
+                std::ptr::null_mut()
+            }
+        }
+    }));
+    outcome.unwrap_or(std::ptr::null_mut())
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
+    _instanceName: fmi3String,
+    _instantiationToken: fmi3String,
+    _resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    _loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+    _clockUpdate: fmi3ClockUpdateCallback,
+    _lockPreemption: fmi3LockPreemptionCallback,
+    _unlockPreemption: fmi3UnlockPreemptionCallback,
+) -> fmi3Instance {
+    let message = "fmi3InstantiateScheduledExecution: this FMU supports Co-Simulation only (fmi3InstantiateCoSimulation)";
+    let _ = catch_unwind(|| report(logMessage, instanceEnvironment, message));
+    std::ptr::null_mut()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
+    if instance.is_null() {
+        return;
+    }
+    // SAFETY: `instance` came from Box::into_raw in fmi3InstantiateCoSimulation and FMI forbids
+    // using it after this call, so ownership returns to a Box exactly once.
+    let component = unsafe { Box::from_raw(instance as *mut Component) };
+    let _ = catch_unwind(AssertUnwindSafe(move || drop(component)));
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterInitializationMode(
+    instance: fmi3Instance,
+    _toleranceDefined: fmi3Boolean,
+    _tolerance: fmi3Float64,
+    startTime: fmi3Float64,
+    stopTimeDefined: fmi3Boolean,
+    stopTime: fmi3Float64,
+) -> fmi3Status {
+    call(instance, Function::EnterInitializationMode, |inst, _| {
+        let stop = stopTimeDefined.then_some(stopTime);
+        done(inst.begin_initialization(Some((startTime, stop))))
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::ExitInitializationMode, |inst, _| {
+        done(inst.exit_initialization_mode())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
+    not_provided(instance, Function::EnterEventMode, NO_EVENT_MODE)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3Terminate(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::Terminate, |inst, _| {
+        done(inst.terminate())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::Reset, |inst, _| done(inst.reset()))
+}
+
+/// Declares the get functions of the types this FMU has variables of.
+macro_rules! getters {
+    ($($name:ident, $function:ident, $c:ty, $method:ident;)*) => {$(
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(
+            instance: fmi3Instance,
+            valueReferences: *const fmi3ValueReference,
+            nValueReferences: size_t,
+            values: *mut $c,
+            nValues: size_t,
+        ) -> fmi3Status {
+            call(instance, Function::$function, |inst, _| {
+                // SAFETY: FMI passes `nValueReferences` value references and room for `nValues`
+                // values.
+                let (vrs, values) = unsafe {
+                    (
+                        slice(valueReferences, nValueReferences, "valueReferences")?,
+                        slice_mut(values, nValues, "values")?,
+                    )
+                };
+                done(inst.$method(vrs, values))
+            })
+        }
+    )*};
+}
+
+getters! {
+    fmi3GetFloat64, GetFloat64, fmi3Float64, get_real;
+    fmi3GetInt32, GetInt32, fmi3Int32, get_integer;
+    fmi3GetUInt64, GetUInt64, fmi3UInt64, get_uint64;
+    fmi3GetBoolean, GetBoolean, fmi3Boolean, get_boolean;
+}
+
+/// Declares the set functions of the types this FMU has variables of.
+macro_rules! setters {
+    ($($name:ident, $function:ident, $c:ty, $method:ident;)*) => {$(
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(
+            instance: fmi3Instance,
+            valueReferences: *const fmi3ValueReference,
+            nValueReferences: size_t,
+            values: *const $c,
+            nValues: size_t,
+        ) -> fmi3Status {
+            call(instance, Function::$function, |inst, _| {
+                // SAFETY: FMI passes `nValueReferences` value references and `nValues` values.
+                let (vrs, values) = unsafe {
+                    (
+                        slice(valueReferences, nValueReferences, "valueReferences")?,
+                        slice(values, nValues, "values")?,
+                    )
+                };
+                done(inst.$method(vrs, values))
+            })
+        }
+    )*};
+}
+
+setters! {
+    fmi3SetFloat64, SetFloat64, fmi3Float64, set_real;
+    fmi3SetInt32, SetInt32, fmi3Int32, set_integer;
+    fmi3SetUInt64, SetUInt64, fmi3UInt64, set_uint64;
+    fmi3SetBoolean, SetBoolean, fmi3Boolean, set_boolean;
+}
+
+/// Declares the get and set functions of the types this FMU has no variable of.
+macro_rules! absent_types {
+    ($($name:ident, $function:ident, $values:ty;)*) => {$(
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(
+            instance: fmi3Instance,
+            valueReferences: *const fmi3ValueReference,
+            nValueReferences: size_t,
+            _values: $values,
+            _nValues: size_t,
+        ) -> fmi3Status {
+            // SAFETY: FMI passes `nValueReferences` value references.
+            unsafe { absent_type(instance, Function::$function, valueReferences, nValueReferences) }
+        }
+    )*};
+}
+
+absent_types! {
+    fmi3GetFloat32, GetFloat32, *mut fmi3Float32;
+    fmi3GetInt8, GetInt8, *mut fmi3Int8;
+    fmi3GetUInt8, GetUInt8, *mut fmi3UInt8;
+    fmi3GetInt16, GetInt16, *mut fmi3Int16;
+    fmi3GetUInt16, GetUInt16, *mut fmi3UInt16;
+    fmi3GetUInt32, GetUInt32, *mut fmi3UInt32;
+    fmi3GetInt64, GetInt64, *mut fmi3Int64;
+    fmi3GetString, GetString, *mut fmi3String;
+    fmi3SetFloat32, SetFloat32, *const fmi3Float32;
+    fmi3SetInt8, SetInt8, *const fmi3Int8;
+    fmi3SetUInt8, SetUInt8, *const fmi3UInt8;
+    fmi3SetInt16, SetInt16, *const fmi3Int16;
+    fmi3SetUInt16, SetUInt16, *const fmi3UInt16;
+    fmi3SetUInt32, SetUInt32, *const fmi3UInt32;
+    fmi3SetInt64, SetInt64, *const fmi3Int64;
+    fmi3SetString, SetString, *const fmi3String;
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetBinary(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    _valueSizes: *mut size_t,
+    _values: *mut fmi3Binary,
+    _nValues: size_t,
+) -> fmi3Status {
+    // SAFETY: FMI passes `nValueReferences` value references.
+    unsafe {
+        absent_type(
+            instance,
+            Function::GetBinary,
+            valueReferences,
+            nValueReferences,
+        )
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetBinary(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    _valueSizes: *const size_t,
+    _values: *const fmi3Binary,
+    _nValues: size_t,
+) -> fmi3Status {
+    // SAFETY: FMI passes `nValueReferences` value references.
+    unsafe {
+        absent_type(
+            instance,
+            Function::SetBinary,
+            valueReferences,
+            nValueReferences,
+        )
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetClock(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    _values: *mut fmi3Clock,
+) -> fmi3Status {
+    // SAFETY: FMI passes `nValueReferences` value references.
+    unsafe {
+        absent_type(
+            instance,
+            Function::GetClock,
+            valueReferences,
+            nValueReferences,
+        )
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetClock(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    _values: *const fmi3Clock,
+) -> fmi3Status {
+    // SAFETY: FMI passes `nValueReferences` value references.
+    unsafe {
+        absent_type(
+            instance,
+            Function::SetClock,
+            valueReferences,
+            nValueReferences,
+        )
+    }
+}
+
+/// Why the dependency queries are refused.
+const NO_DEPENDENCIES: &str =
+    "per-element dependencies are not provided (providesPerElementDependencies = false)";
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
+    instance: fmi3Instance,
+    _valueReference: fmi3ValueReference,
+    _nDependencies: *mut size_t,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::GetNumberOfVariableDependencies,
+        NO_DEPENDENCIES,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetVariableDependencies(
+    instance: fmi3Instance,
+    _dependent: fmi3ValueReference,
+    _elementIndicesOfDependent: *mut size_t,
+    _independents: *mut fmi3ValueReference,
+    _elementIndicesOfIndependents: *mut size_t,
+    _dependencyKinds: *mut fmi3DependencyKind,
+    _nDependencies: size_t,
+) -> fmi3Status {
+    not_provided(instance, Function::GetVariableDependencies, NO_DEPENDENCIES)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetFMUState(
+    instance: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    call(instance, Function::GetFMUState, |inst, _| {
+        // SAFETY: `FMUState` points to the host's fmi3FMUState variable (FMI contract).
+        unsafe { c_api::get_fmu_state(inst, FMUState) }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetFMUState(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+) -> fmi3Status {
+    call(instance, Function::SetFMUState, |inst, _| {
+        // SAFETY: a non-null fmi3FMUState is a live state of this library (FMI contract).
+        unsafe { c_api::set_fmu_state(inst, FMUState) }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3FreeFMUState(
+    instance: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    call(instance, Function::FreeFMUState, |inst, _| {
+        // SAFETY: `FMUState` points to the host's fmi3FMUState variable, which FMI forbids
+        // using after this call.
+        unsafe { c_api::free_fmu_state(inst, FMUState) }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+    size: *mut size_t,
+) -> fmi3Status {
+    call(instance, Function::SerializedFMUStateSize, |inst, _| {
+        let function = Function::SerializedFMUStateSize;
+        // SAFETY: a non-null fmi3FMUState is a live state of this library and `size` the host's
+        // size_t (FMI contract).
+        unsafe { c_api::serialized_size(inst, function, FMUState, size) }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+    serializedState: *mut fmi3Byte,
+    size: size_t,
+) -> fmi3Status {
+    call(instance, Function::SerializeFMUState, |inst, _| {
+        let function = Function::SerializeFMUState;
+        // SAFETY: a non-null fmi3FMUState is a live state of this library and the buffer holds
+        // `size` writable bytes (FMI contract).
+        unsafe { c_api::serialize(inst, function, FMUState, serializedState, size) }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    instance: fmi3Instance,
+    serializedState: *const fmi3Byte,
+    size: size_t,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    call(instance, Function::DeserializeFMUState, |inst, _| {
+        // SAFETY: FMI passes `size` readable bytes (any content: they are checked) and the host's
+        // fmi3FMUState variable.
+        unsafe { c_api::deserialize(inst, serializedState, size, FMUState) }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
+    instance: fmi3Instance,
+    _unknowns: *const fmi3ValueReference,
+    _nUnknowns: size_t,
+    _knowns: *const fmi3ValueReference,
+    _nKnowns: size_t,
+    _seed: *const fmi3Float64,
+    _nSeed: size_t,
+    _sensitivity: *mut fmi3Float64,
+    _nSensitivity: size_t,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::GetDirectionalDerivative,
+        "directional derivatives are not provided (providesDirectionalDerivatives = false)",
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetAdjointDerivative(
+    instance: fmi3Instance,
+    _unknowns: *const fmi3ValueReference,
+    _nUnknowns: size_t,
+    _knowns: *const fmi3ValueReference,
+    _nKnowns: size_t,
+    _seed: *const fmi3Float64,
+    _nSeed: size_t,
+    _sensitivity: *mut fmi3Float64,
+    _nSensitivity: size_t,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::GetAdjointDerivative,
+        "adjoint derivatives are not provided (providesAdjointDerivatives = false)",
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::EnterConfigurationMode, |inst, _| {
+        done(inst.enter_configuration_mode())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3ExitConfigurationMode(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::ExitConfigurationMode, |inst, _| {
+        done(inst.exit_configuration_mode())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetIntervalDecimal(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _intervals: *mut fmi3Float64,
+    _qualifiers: *mut fmi3IntervalQualifier,
+) -> fmi3Status {
+    not_provided(instance, Function::GetIntervalDecimal, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetIntervalFraction(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _counters: *mut fmi3UInt64,
+    _resolutions: *mut fmi3UInt64,
+    _qualifiers: *mut fmi3IntervalQualifier,
+) -> fmi3Status {
+    not_provided(instance, Function::GetIntervalFraction, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetShiftDecimal(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _shifts: *mut fmi3Float64,
+) -> fmi3Status {
+    not_provided(instance, Function::GetShiftDecimal, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetShiftFraction(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _counters: *mut fmi3UInt64,
+    _resolutions: *mut fmi3UInt64,
+) -> fmi3Status {
+    not_provided(instance, Function::GetShiftFraction, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetIntervalDecimal(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _intervals: *const fmi3Float64,
+) -> fmi3Status {
+    not_provided(instance, Function::SetIntervalDecimal, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetIntervalFraction(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _counters: *const fmi3UInt64,
+    _resolutions: *const fmi3UInt64,
+) -> fmi3Status {
+    not_provided(instance, Function::SetIntervalFraction, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetShiftDecimal(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _shifts: *const fmi3Float64,
+) -> fmi3Status {
+    not_provided(instance, Function::SetShiftDecimal, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetShiftFraction(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: size_t,
+    _counters: *const fmi3UInt64,
+    _resolutions: *const fmi3UInt64,
+) -> fmi3Status {
+    not_provided(instance, Function::SetShiftFraction, NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(instance: fmi3Instance) -> fmi3Status {
+    not_provided(instance, Function::EvaluateDiscreteStates, NO_EVENT_MODE)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
+    instance: fmi3Instance,
+    _discreteStatesNeedUpdate: *mut fmi3Boolean,
+    _terminateSimulation: *mut fmi3Boolean,
+    _nominalsOfContinuousStatesChanged: *mut fmi3Boolean,
+    _valuesOfContinuousStatesChanged: *mut fmi3Boolean,
+    _nextEventTimeDefined: *mut fmi3Boolean,
+    _nextEventTime: *mut fmi3Float64,
+) -> fmi3Status {
+    not_provided(instance, Function::UpdateDiscreteStates, NO_EVENT_MODE)
+}
+
+/// Why the Model Exchange functions are refused.
+const CO_SIMULATION_ONLY: &str = "this FMU supports Co-Simulation only";
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterContinuousTimeMode(instance: fmi3Instance) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::EnterContinuousTimeMode,
+        CO_SIMULATION_ONLY,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3CompletedIntegratorStep(
+    instance: fmi3Instance,
+    _noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
+    _enterEventMode: *mut fmi3Boolean,
+    _terminateSimulation: *mut fmi3Boolean,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::CompletedIntegratorStep,
+        CO_SIMULATION_ONLY,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetTime(instance: fmi3Instance, _time: fmi3Float64) -> fmi3Status {
+    not_provided(instance, Function::SetTime, CO_SIMULATION_ONLY)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetContinuousStates(
+    instance: fmi3Instance,
+    _continuousStates: *const fmi3Float64,
+    _nContinuousStates: size_t,
+) -> fmi3Status {
+    not_provided(instance, Function::SetContinuousStates, CO_SIMULATION_ONLY)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetContinuousStateDerivatives(
+    instance: fmi3Instance,
+    _derivatives: *mut fmi3Float64,
+    _nContinuousStates: size_t,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::GetContinuousStateDerivatives,
+        CO_SIMULATION_ONLY,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetEventIndicators(
+    instance: fmi3Instance,
+    _eventIndicators: *mut fmi3Float64,
+    _nEventIndicators: size_t,
+) -> fmi3Status {
+    not_provided(instance, Function::GetEventIndicators, CO_SIMULATION_ONLY)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetContinuousStates(
+    instance: fmi3Instance,
+    _continuousStates: *mut fmi3Float64,
+    _nContinuousStates: size_t,
+) -> fmi3Status {
+    not_provided(instance, Function::GetContinuousStates, CO_SIMULATION_ONLY)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNominalsOfContinuousStates(
+    instance: fmi3Instance,
+    _nominals: *mut fmi3Float64,
+    _nContinuousStates: size_t,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::GetNominalsOfContinuousStates,
+        CO_SIMULATION_ONLY,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNumberOfEventIndicators(
+    instance: fmi3Instance,
+    _nEventIndicators: *mut size_t,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::GetNumberOfEventIndicators,
+        CO_SIMULATION_ONLY,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(
+    instance: fmi3Instance,
+    _nContinuousStates: *mut size_t,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::GetNumberOfContinuousStates,
+        CO_SIMULATION_ONLY,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
+    not_provided(instance, Function::EnterStepMode, NO_EVENT_MODE)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetOutputDerivatives(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    orders: *const fmi3Int32,
+    values: *mut fmi3Float64,
+    nValues: size_t,
+) -> fmi3Status {
+    call(instance, Function::GetOutputDerivatives, |inst, _| {
+        // SAFETY: FMI passes `nValueReferences` value references and orders, and room for
+        // `nValues` values.
+        let (vrs, orders, values) = unsafe {
+            (
+                slice(valueReferences, nValueReferences, "valueReferences")?,
+                slice(orders, nValueReferences, "orders")?,
+                slice_mut(values, nValues, "values")?,
+            )
+        };
+        done(inst.output_derivatives(vrs, orders, values))
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DoStep(
+    instance: fmi3Instance,
+    currentCommunicationPoint: fmi3Float64,
+    communicationStepSize: fmi3Float64,
+    _noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
+    eventHandlingNeeded: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+    earlyReturn: *mut fmi3Boolean,
+    lastSuccessfulTime: *mut fmi3Float64,
+) -> fmi3Status {
+    call(instance, Function::DoStep, |inst, early_return_allowed| {
+        let outputs = [
+            ("eventHandlingNeeded", eventHandlingNeeded.is_null()),
+            ("terminateSimulation", terminateSimulation.is_null()),
+            ("earlyReturn", earlyReturn.is_null()),
+            ("lastSuccessfulTime", lastSuccessfulTime.is_null()),
+        ];
+        if let Some((name, _)) = outputs.iter().find(|(_, null)| *null) {
+            return Err(null_argument(name));
+        }
+        let outcome = inst.do_step(
+            currentCommunicationPoint,
+            communicationStepSize,
+            early_return_allowed,
+        )?;
+        // SAFETY: the four output arguments are non-null and point to the host's variables.
+        unsafe {
+            *eventHandlingNeeded = false;
+            *terminateSimulation = false;
+            *earlyReturn = outcome.early_return;
+            *lastSuccessfulTime = inst.time();
+        }
+        Ok(outcome.status)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3ActivateModelPartition(
+    instance: fmi3Instance,
+    _clockReference: fmi3ValueReference,
+    _activationTime: fmi3Float64,
+) -> fmi3Status {
+    not_provided(
+        instance,
+        Function::ActivateModelPartition,
+        "this FMU supports Co-Simulation only (no Scheduled Execution)",
+    )
+}

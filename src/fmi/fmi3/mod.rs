@@ -1,0 +1,13 @@
+//! FMI 3.0 Co-Simulation: its call-state table, its instance (the generic
+//! [`crate::fmi::instance::Instance`] with FMI 3.0's table and calls) and its exported C functions,
+//! every function of `fmi3Functions.h`. It drives the same plate binding as [`crate::fmi::fmi2`],
+//! through the same generic machinery; what FMI 3.0 adds is the independent variable, the
+//! displacement field as an array sized by structural parameters (Configuration Mode), and the
+//! early return of fmi3DoStep at impacts.
+
+pub mod call_state;
+pub mod exports;
+pub mod instance;
+
+#[cfg(test)]
+mod tests;
