@@ -134,7 +134,7 @@ pub struct Stepper {
     /// Vertices in contact after the last step.
     active_count: usize,
     /// (m₁ᵀw_{n−1}, m₁ᵀw_n): the mass-weighted sums of the two levels, for G_n.
-    translation: [f64; 2],
+    mass_weighted_sums: [f64; 2],
     /// −G of the last step (N).
     base_force: f64,
     /// Energy flows summed since t_1.
@@ -185,7 +185,7 @@ impl Stepper {
             scene: scene.clone(),
             current_norm_squared: sums.norm_squared,
             active_count: preload.states.iter().filter(|s| s.is_active()).count(),
-            translation: [sums.translation; 2],
+            mass_weighted_sums: [sums.translation; 2],
             base_force,
             flows: EnergyFlows::default(),
             magnitude_scale: backend.magnitude_scale(scene.solver.time_step),
@@ -521,7 +521,7 @@ impl Stepper {
         self.current_norm_squared = sums.norm_squared;
         let impact = self.active_count == 0 && active > 0;
         self.active_count = active;
-        self.translation = [self.translation[1], sums.translation];
+        self.mass_weighted_sums = [self.mass_weighted_sums[1], sums.translation];
         self.base_force = base_force;
         self.flows = self.flows.plus(&flows);
         self.base = [z_curr, base_next];
@@ -545,22 +545,22 @@ impl Stepper {
     /// is the whole force through the base; docs/scheme.md §11):
     /// G_n = 𝟙ᵀM(u_{n+1} − 2u_n + u_{n−1})/Δt² − F̄_n∫1 − Σ_i f_i, where 𝟙ᵀMu = M_tot z + m₁ᵀw.
     /// The start step's equation 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 + R_0 gives
-    /// G_0 = 2𝟙ᵀM(u_1 − u_0)/Δt² − F̄_0∫1 − Σ_i f_i.
-    fn base_supply(&self, base_next: f64, translation_next: f64, contact_force: f64) -> f64 {
+    /// G_0 = 2𝟙ᵀM(u_1 − u_0)/Δt² − F̄_0∫1 − Σ_i f_i. `mass_weighted_next` is m₁ᵀw_{n+1}.
+    fn base_supply(&self, base_next: f64, mass_weighted_next: f64, contact_force: f64) -> f64 {
         let dt = self.scene.solver.time_step;
         let (m, area) = (self.free.total_mass, self.free.area);
         let [z_prev, z_curr] = self.base;
-        let [s_prev, s_curr] = self.translation;
+        let [s_prev, s_curr] = self.mass_weighted_sums;
         let p_next = self.scene.load.pressure;
         let (momentum_change, mean_pressure) = if self.step_index == 0 {
             (
-                2.0 * (m * (base_next - z_curr) + (translation_next - s_curr)),
+                2.0 * (m * (base_next - z_curr) + (mass_weighted_next - s_curr)),
                 0.5 * (p_next + self.pressure[1]),
             )
         } else {
             (
                 m * (base_next - 2.0 * z_curr + z_prev)
-                    + (translation_next - 2.0 * s_curr + s_prev),
+                    + (mass_weighted_next - 2.0 * s_curr + s_prev),
                 0.5 * (p_next + self.pressure[0]),
             )
         };
@@ -892,7 +892,7 @@ impl Stepper {
         self.levels.next.copy_from_slice(&state.current);
         let sums = self.backend.field_sums(&self.levels.current);
         self.current_norm_squared = sums.norm_squared;
-        self.translation = [
+        self.mass_weighted_sums = [
             self.backend.field_sums(&self.levels.previous).translation,
             sums.translation,
         ];
