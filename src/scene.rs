@@ -123,6 +123,38 @@ pub struct Obstacles {
     pub upper: f64,
 }
 
+/// One of the two obstacles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ObstacleSide {
+    /// g1, below the plate.
+    Lower,
+    /// g2, above the plate.
+    Upper,
+}
+
+impl ObstacleSide {
+    /// The obstacle's parameter name, `obstacle.lower` or `obstacle.upper`.
+    pub fn parameter(self) -> &'static str {
+        match self {
+            ObstacleSide::Lower => "obstacle.lower",
+            ObstacleSide::Upper => "obstacle.upper",
+        }
+    }
+}
+
+/// A displacement found past an obstacle by [`Scene::first_outside`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outside {
+    /// The obstacle it is past.
+    pub obstacle: ObstacleSide,
+    /// That obstacle's level (m).
+    pub level: f64,
+    /// Its index in the slice searched.
+    pub index: usize,
+    /// The displacement (m).
+    pub value: f64,
+}
+
 /// Transverse pressure during the motion.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -352,6 +384,48 @@ impl Scene {
         s
     }
 
+    /// [`Scene::fixed_part`] with the QP choice `solver.qp` neutralised as well: the QP choice
+    /// changes how a step is solved, not what it computes, so a stepper restores a state whose
+    /// scene has the same `fixed_part_ignoring_qp` as its own, whichever QP solver wrote it.
+    pub fn fixed_part_ignoring_qp(&self) -> Scene {
+        let mut s = self.fixed_part();
+        s.solver.qp = QpChoice::Auto;
+        s
+    }
+
+    /// The length that scales the obstacle tolerances (m): g2 − g1 with both obstacles, |g| with
+    /// one (its distance from the plate's starting level u = 0, which [`Scene::validate`] keeps
+    /// > 0), and 1 m without any.
+    pub fn gap(&self) -> f64 {
+        match (self.lower_obstacle(), self.upper_obstacle()) {
+            (Some(g1), Some(g2)) => g2 - g1,
+            (Some(g), None) | (None, Some(g)) => g.abs(),
+            (None, None) => 1.0,
+        }
+    }
+
+    /// The first of the displacements `u` (m, absolute: base plus plate) that lies past an enabled
+    /// obstacle by more than `tolerance` (m): u_i < g1 − tolerance or u_i > g2 + tolerance. The
+    /// one test of "a vertex outside the obstacles" shared by the stepper, the simulation and the
+    /// FMU; `tolerance` is theirs to choose, usually a fraction of [`Scene::gap`].
+    pub fn first_outside(&self, u: &[f64], tolerance: f64) -> Option<Outside> {
+        let (lower, upper) = (self.lower_obstacle(), self.upper_obstacle());
+        u.iter().enumerate().find_map(|(index, &value)| {
+            let below = lower
+                .filter(|&g| value < g - tolerance)
+                .map(|level| (ObstacleSide::Lower, level));
+            let above = upper
+                .filter(|&g| value > g + tolerance)
+                .map(|level| (ObstacleSide::Upper, level));
+            below.or(above).map(|(obstacle, level)| Outside {
+                obstacle,
+                level,
+                index,
+                value,
+            })
+        })
+    }
+
     /// Bending stiffness D = E e³ / (12 (1 − ν²)) (N·m).
     pub fn bending_stiffness(&self) -> f64 {
         let m = &self.material;
@@ -548,6 +622,44 @@ mod tests {
             assert!(err.to_string().contains(name), "{err}");
         }
         assert_eq!(s.damping.stiffness_proportional, 1e-5);
+    }
+
+    #[test]
+    fn the_gap_and_the_first_value_outside_follow_the_enabled_obstacles() {
+        let mut s = Scene::default();
+        (s.obstacle.lower, s.obstacle.upper) = (-0.01, 0.03);
+        assert_eq!(s.gap(), 0.04);
+        let u = [0.0, 0.031, -0.02];
+        let outside = s.first_outside(&u, 1e-6).unwrap();
+        assert_eq!(
+            (
+                outside.obstacle,
+                outside.level,
+                outside.index,
+                outside.value
+            ),
+            (ObstacleSide::Upper, 0.03, 1, 0.031)
+        );
+        assert!(s.first_outside(&u, 0.011).is_none(), "within the tolerance");
+        s.obstacle.upper_enabled = false;
+        assert_eq!(s.gap(), 0.01, "one obstacle: its distance from u = 0");
+        let outside = s.first_outside(&u, 1e-6).unwrap();
+        assert_eq!((outside.obstacle, outside.index), (ObstacleSide::Lower, 2));
+        s.obstacle.lower_enabled = false;
+        assert_eq!(s.gap(), 1.0);
+        assert!(s.first_outside(&u, 0.0).is_none());
+    }
+
+    #[test]
+    fn the_fixed_part_ignoring_qp_neutralises_the_qp_choice_only_beyond_the_fixed_part() {
+        let s = Scene::default();
+        let mut other = s.clone();
+        other.solver.qp = QpChoice::Clarabel;
+        other.load.pressure = 5.0;
+        assert_ne!(s.fixed_part(), other.fixed_part());
+        assert_eq!(s.fixed_part_ignoring_qp(), other.fixed_part_ignoring_qp());
+        other.solver.time_step *= 2.0;
+        assert_ne!(s.fixed_part_ignoring_qp(), other.fixed_part_ignoring_qp());
     }
 
     #[test]

@@ -61,10 +61,20 @@ fn measured_damping_ratio(scene: &Scene, steps: usize) -> (f64, usize) {
 }
 
 /// With α = 2ζω_1 (β = 0) or β = 2ζ/ω_1 (α = 0) for ζ = 0.02, the released plate's corner decays
-/// with ζ_1 within 5 % of 0.02 over 12 periods of the first mode. Measured (modal backend): see the
-/// printed values; the remaining difference comes from the higher modes that the release also
-/// excites (mass-proportional damping leaves them lightly damped) and from the scheme's
-/// O((ω_1Δt)²) period and decay errors.
+/// with ζ_1 within [`DAMPING_RATIO_TOLERANCE`] of 0.02 over 12 periods of the first mode, and
+/// undamped the same fit gives |ζ| below [`UNDAMPED_FIT_BIAS`].
+/// The fitted ζ_1 differs from the modal value by the fit's bias, which the higher modes that the
+/// release also excites cause (the undamped plate's fit measures it: 8.6e-5, 0.43 % of 0.02;
+/// mass-proportional damping leaves those modes lightly damped, so the bias stays), and by the
+/// scheme's O((ω_1Δt)²) decay error (ω_1Δt = 0.034, about 0.1 %). Measured +0.42 % (α alone) and
+/// −0.03 % (β alone) on both backends; 1 % leaves a factor 2.
+const DAMPING_RATIO_TOLERANCE: f64 = 0.01;
+
+/// Bound on the undamped fit, as a fraction of the target ratio 0.02: the scheme itself does not
+/// dissipate, so the fit returns its own bias, measured 8.6e-5 = 0.43 % of 0.02; 1 % leaves a
+/// factor 2.
+const UNDAMPED_FIT_BIAS: f64 = 0.01;
+
 #[test]
 fn first_mode_damping_ratio_from_the_decay() {
     let target = 0.02;
@@ -100,14 +110,17 @@ fn first_mode_damping_ratio_from_the_decay() {
             );
             assert!(peaks >= 10, "{kind}: too few peaks");
             assert!(
-                (zeta / target - 1.0).abs() <= 0.05,
+                (zeta / target - 1.0).abs() <= DAMPING_RATIO_TOLERANCE,
                 "{linear:?} {kind}: ζ_1 = {zeta}"
             );
         }
         // Undamped, the same fit gives ζ ≈ 0: the scheme itself does not dissipate.
         let (zeta, _) = measured_damping_ratio(&base, steps);
         println!("{linear:?} undamped: ζ measured {zeta:.2e}");
-        assert!(zeta.abs() <= 0.05 * target, "undamped ζ = {zeta}");
+        assert!(
+            zeta.abs() <= UNDAMPED_FIT_BIAS * target,
+            "undamped ζ = {zeta}"
+        );
     }
 }
 

@@ -427,3 +427,33 @@ fn an_obstacle_may_not_move_into_the_previous_level() {
     assert!(err.contains("obstacle.upper"), "{err}");
     stepper.set_obstacles(-0.01, before + 1e-6).unwrap();
 }
+
+/// A move that would leave the base of the previous level outside the gap is refused: the state
+/// taken after it would be one the stepper refuses to restore. A 1×1 plate lifted by a preload
+/// steps to z = −5 mm and back to 0; raising the lower obstacle to −3 mm clears every vertex of
+/// both levels and the current base, but not z_{n−1} = −5 mm. A move that clears both bases is
+/// taken, and the state after it restores.
+#[test]
+fn an_obstacle_may_not_move_past_the_previous_base() {
+    let mut s = Scene::default();
+    (s.mesh.nx, s.mesh.ny) = (1, 1);
+    s.initial.preload_pressure = 3e4;
+    let mut stepper = Stepper::new(&s, 0.0).unwrap();
+    stepper.step(-0.005).unwrap();
+    stepper.step(0.0).unwrap();
+    let lowest = stepper
+        .constrained_displacements()
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    assert!(lowest > -0.003, "the plate is above −3 mm: {lowest} m");
+    let err = stepper.set_obstacles(-0.003, 0.01).unwrap_err().to_string();
+    assert!(err.contains("z = -0.005 m"), "{err}");
+    assert_eq!(
+        stepper.scene().obstacle.lower,
+        s.obstacle.lower,
+        "a refused move changes nothing"
+    );
+    stepper.set_obstacles(-0.006, 0.01).unwrap();
+    let state = stepper.state();
+    stepper.restore(&state).unwrap();
+}

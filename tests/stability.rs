@@ -46,15 +46,6 @@ struct Measured {
     run_seconds: f64,
 }
 
-fn gap(scene: &Scene) -> f64 {
-    match (scene.lower_obstacle(), scene.upper_obstacle()) {
-        (Some(a), Some(b)) => b - a,
-        (Some(a), None) => -a,
-        (None, Some(b)) => b,
-        (None, None) => 1.0,
-    }
-}
-
 /// Sets the scene up and runs `steps` steps with base displacement z(t) = builtin(t) + extra(t).
 /// Panics (fails the test) on a NaN/inf, a bound violation or a broken energy law; returns the
 /// library's error unchanged when it refuses the scene or a step.
@@ -72,7 +63,7 @@ fn run(scene: &Scene, steps: usize, extra: impl Fn(f64) -> f64) -> Result<Measur
     // A constant load keeps the law (docs/scheme.md: E includes −½Fᵀ(u_{n+1} + u_n)).
     let unforced = fixed_base;
     let (g1, g2) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let tolerance = BOUND_TOLERANCE * gap(scene);
+    let tolerance = BOUND_TOLERANCE * scene.gap();
     let mut energies = Vec::with_capacity(steps);
     let dt = scene.solver.time_step;
     for n in 1..=steps {
@@ -106,7 +97,7 @@ fn run(scene: &Scene, steps: usize, extra: impl Fn(f64) -> f64) -> Result<Measur
         for (i, &u) in next.iter().enumerate() {
             let below = g1.map_or(0.0, |g| g - u);
             let above = g2.map_or(0.0, |g| u - g);
-            m.violation = m.violation.max(below.max(above) / gap(scene));
+            m.violation = m.violation.max(below.max(above) / scene.gap());
             assert!(
                 below <= tolerance && above <= tolerance,
                 "step {n}, vertex {i}: u = {u:e} breaks [{g1:?}, {g2:?}] by {:e} m",

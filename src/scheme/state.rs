@@ -8,7 +8,8 @@ use serde::{Deserialize, Serialize};
 
 /// The serializable dynamic state of a [`Stepper`](super::Stepper): the scene (fixed parameters,
 /// and tunable ones at their current values), the linear backend whose coordinates it holds, and
-/// the fields.
+/// the fields. Every field is required when it is deserialized: a payload that lacks one is
+/// refused, not completed with a default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct State {
     /// Parameters, tunable ones at their current values.
@@ -30,10 +31,8 @@ pub struct State {
     /// Contact forces of the last step (N).
     pub forces: Vec<f64>,
     /// −G of the last step (N): the force on the base, see [`Outputs`](super::Outputs).
-    #[serde(default)]
     pub base_force: f64,
     /// Energy flows summed since t_1 (J).
-    #[serde(default)]
     pub flows: EnergyFlows,
 }
 
@@ -130,5 +129,34 @@ impl State {
             states.push(state);
         }
         Ok(states)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::Scene;
+    use crate::scheme::Stepper;
+
+    /// A payload without the force on the base or the energy flows is refused by name.
+    #[test]
+    fn every_field_is_required() {
+        let mut scene = Scene::default();
+        (scene.mesh.nx, scene.mesh.ny) = (1, 1);
+        let state = Stepper::new(&scene, 0.0).unwrap().state();
+        let full = serde_json::to_value(&state).unwrap();
+        assert_eq!(
+            serde_json::from_value::<super::State>(full.clone()).unwrap(),
+            state
+        );
+        for field in ["base_force", "flows"] {
+            let mut partial = full.clone();
+            partial.as_object_mut().unwrap().remove(field);
+            let err = serde_json::from_value::<super::State>(partial).unwrap_err();
+            assert!(
+                err.to_string()
+                    .contains(&format!("missing field `{field}`")),
+                "{err}"
+            );
+        }
     }
 }

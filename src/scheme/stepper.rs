@@ -12,7 +12,7 @@ use super::state::{state_code, State};
 use super::FreeSystem;
 use crate::contact::{ActiveSetSolver, BoundState, BoxQp, PdasReport, PdasSettings};
 use crate::error::Error;
-use crate::scene::{LinearChoice, QpChoice, Scene};
+use crate::scene::{LinearChoice, ObstacleSide, Outside, QpChoice, Scene};
 use crate::system::PlateSystem;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -58,13 +58,19 @@ pub struct StepReport {
     pub flows: EnergyFlows,
 }
 
-/// Relative tolerance of the obstacle bounds when a state is restored or an obstacle moved:
-/// 1e-6 of the gap (g2 − g1, or |g| with one obstacle). A step satisfies its bounds to round-off
+/// Relative tolerance of the obstacle bounds when a state is restored: 1e-6 of the gap
+/// ([`Scene::gap`]). A step satisfies its bounds to round-off
 /// (the stability matrix asserts 1e-9 of the gap on extreme scenes, 1000 times inside this), and a
 /// vertex 1e-6 of the gap inside an obstacle would be pushed out with a speed of 1e-6·gap/Δt, far
 /// below anything physical; a crafted state with a vertex deep in an obstacle would instead be
 /// pushed out within one step, an arbitrary impulse.
 pub const RESTORE_BOUND_TOLERANCE: f64 = 1e-6;
+
+/// Relative tolerance of the obstacle bounds when an obstacle is moved: 1e-12 of the gap
+/// ([`Scene::gap`]), round-off of u = z + w at a vertex resting on the obstacle. A move is held to
+/// far less than a restored state ([`RESTORE_BOUND_TOLERANCE`]): it is a deliberate change, and
+/// whatever it accepts a restore of the state taken after it accepts too.
+const MOVE_BOUND_TOLERANCE: f64 = 1e-12;
 
 /// Relative tolerance of the sign of a restored contact force, as a fraction of the force that
 /// moves the hardest-to-move constrained vertex across the gap in one step, max_i A_ii·gap/Δt².
@@ -128,7 +134,7 @@ pub struct Stepper {
     /// Vertices in contact after the last step.
     active_count: usize,
     /// (m₁ᵀw_{n−1}, m₁ᵀw_n): the mass-weighted sums of the two levels, for G_n.
-    translation: [f64; 2],
+    mass_weighted_sums: [f64; 2],
     /// −G of the last step (N).
     base_force: f64,
     /// Energy flows summed since t_1.
@@ -179,7 +185,7 @@ impl Stepper {
             scene: scene.clone(),
             current_norm_squared: sums.norm_squared,
             active_count: preload.states.iter().filter(|s| s.is_active()).count(),
-            translation: [sums.translation; 2],
+            mass_weighted_sums: [sums.translation; 2],
             base_force,
             flows: EnergyFlows::default(),
             magnitude_scale: backend.magnitude_scale(scene.solver.time_step),
@@ -308,55 +314,80 @@ impl Stepper {
         self.active_set_settings = settings;
     }
 
-    /// Changes the obstacle levels (tunable). The base and every constrained vertex of both stored
-    /// levels u_{n−1}, u_n must lie within the new levels (to 1e-12 of the gap): moving an
-    /// obstacle into the plate would make the next step push it out within one Δt, an arbitrary
-    /// impulse, so that is refused.
+    /// Changes the obstacle levels (tunable). Both stored levels must lie within the new levels,
+    /// as a restored state must ([`Stepper::restore`]): both base values z_{n−1}, z_n strictly
+    /// inside the gap, and every constrained vertex of u_{n−1}, u_n within the obstacles to 1e-12
+    /// of the gap ([`Scene::gap`]). Moving an obstacle into the plate would make the next step push
+    /// it out within one Δt, an arbitrary impulse, so that is refused; and a move that left
+    /// z_{n−1} outside the gap would give a state that the stepper itself refuses to restore.
     pub fn set_obstacles(&mut self, lower: f64, upper: f64) -> Result<(), Error> {
         let mut scene = self.scene.clone();
         scene.obstacle.lower = lower;
         scene.obstacle.upper = upper;
         scene.validate()?;
-        check_base(&scene, self.time(), self.base[1])?;
-        let tolerance = 1e-12 * (upper - lower).abs().min(1.0);
-        let [previous, current] =
-            self.level_displacements(&self.levels.previous, &self.levels.current, self.base);
-        for u in [&current, &previous] {
-            if let Some(outside) = first_outside(&scene, u, tolerance) {
-                let (name, value, relation) = match outside.obstacle {
-                    Obstacle::Lower => ("obstacle.lower", lower, "above"),
-                    Obstacle::Upper => ("obstacle.upper", upper, "below"),
+        let levels = StoredLevels {
+            step_index: self.step_index,
+            base: self.base,
+            previous: &self.levels.previous,
+            current: &self.levels.current,
+        };
+        let tolerance = MOVE_BOUND_TOLERANCE * scene.gap();
+        match self.first_level_outside(&scene, &levels, tolerance) {
+            None => {
+                self.scene = scene;
+                Ok(())
+            }
+            Some(LevelOutside::Base { error, .. }) => Err(error),
+            Some(LevelOutside::Vertex { outside, .. }) => {
+                let relation = match outside.obstacle {
+                    ObstacleSide::Lower => "above",
+                    ObstacleSide::Upper => "below",
                 };
-                return Err(Error::invalid(
-                    name,
-                    value,
+                Err(Error::invalid(
+                    outside.obstacle.parameter(),
+                    outside.level,
                     &format!(
                         "must not be {relation} the plate: a vertex is at u = {} m",
                         outside.value
                     ),
-                ));
+                ))
             }
         }
-        self.scene = scene;
-        Ok(())
     }
 
-    /// The displacements u = z + w at the constrained vertices of two fields.
-    fn level_displacements(
+    /// Where two stored levels leave the obstacles of `scene`, if they do: a base value z_{n−1}
+    /// or z_n not strictly inside the gap (the base first), or a constrained vertex of
+    /// u = z + w past an obstacle by more than `tolerance` (m) ([`Scene::first_outside`]). The one
+    /// test of stored levels against the obstacles, for [`Stepper::set_obstacles`] and
+    /// [`Stepper::restore`].
+    fn first_level_outside(
         &self,
-        previous: &[f64],
-        current: &[f64],
-        base: [f64; 2],
-    ) -> [Vec<f64>; 2] {
-        let m = self.free.constrained.len();
-        let mut out = [vec![0.0; m], vec![0.0; m]];
-        for ((u, field), z) in out.iter_mut().zip([previous, current]).zip(base) {
-            self.backend.constrained_values(field, u);
+        scene: &Scene,
+        levels: &StoredLevels,
+        tolerance: f64,
+    ) -> Option<LevelOutside> {
+        let dt = scene.solver.time_step;
+        let times = [levels.step_index.saturating_sub(1), levels.step_index].map(|n| n as f64 * dt);
+        for (level, (&z, time)) in levels.base.iter().zip(times).enumerate() {
+            if let Err(error) = check_base(scene, time, z) {
+                return Some(LevelOutside::Base { level, error });
+            }
+        }
+        let mut u = vec![0.0; self.free.constrained.len()];
+        for (level, (field, z)) in [levels.previous, levels.current]
+            .into_iter()
+            .zip(levels.base)
+            .enumerate()
+        {
+            self.backend.constrained_values(field, &mut u);
             for u in u.iter_mut() {
                 *u += z;
             }
+            if let Some(outside) = scene.first_outside(&u, tolerance) {
+                return Some(LevelOutside::Vertex { level, outside });
+            }
         }
-        out
+        None
     }
 
     /// Changes the pressure during the motion (tunable), applied from the next step on.
@@ -535,7 +566,7 @@ impl Stepper {
         self.current_norm_squared = sums.norm_squared;
         let impact = self.active_count == 0 && active > 0;
         self.active_count = active;
-        self.translation = [self.translation[1], sums.translation];
+        self.mass_weighted_sums = [self.mass_weighted_sums[1], sums.translation];
         self.base_force = base_force;
         self.flows = self.flows.plus(&flows);
         self.base = [z_curr, base_next];
@@ -559,22 +590,22 @@ impl Stepper {
     /// is the whole force through the base; docs/scheme.md §11):
     /// G_n = 𝟙ᵀM(u_{n+1} − 2u_n + u_{n−1})/Δt² − F̄_n∫1 − Σ_i f_i, where 𝟙ᵀMu = M_tot z + m₁ᵀw.
     /// The start step's equation 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 + R_0 gives
-    /// G_0 = 2𝟙ᵀM(u_1 − u_0)/Δt² − F̄_0∫1 − Σ_i f_i.
-    fn base_supply(&self, base_next: f64, translation_next: f64, contact_force: f64) -> f64 {
+    /// G_0 = 2𝟙ᵀM(u_1 − u_0)/Δt² − F̄_0∫1 − Σ_i f_i. `mass_weighted_next` is m₁ᵀw_{n+1}.
+    fn base_supply(&self, base_next: f64, mass_weighted_next: f64, contact_force: f64) -> f64 {
         let dt = self.scene.solver.time_step;
         let (m, area) = (self.free.total_mass, self.free.area);
         let [z_prev, z_curr] = self.base;
-        let [s_prev, s_curr] = self.translation;
+        let [s_prev, s_curr] = self.mass_weighted_sums;
         let p_next = self.scene.load.pressure;
         let (momentum_change, mean_pressure) = if self.step_index == 0 {
             (
-                2.0 * (m * (base_next - z_curr) + (translation_next - s_curr)),
+                2.0 * (m * (base_next - z_curr) + (mass_weighted_next - s_curr)),
                 0.5 * (p_next + self.pressure[1]),
             )
         } else {
             (
                 m * (base_next - 2.0 * z_curr + z_prev)
-                    + (translation_next - 2.0 * s_curr + s_prev),
+                    + (mass_weighted_next - 2.0 * s_curr + s_prev),
                 0.5 * (p_next + self.pressure[0]),
             )
         };
@@ -825,15 +856,8 @@ impl Stepper {
     /// to [`RESTORE_BOUND_TOLERANCE`] of the gap (every impact law keeps every level within
     /// them), and its energies and outputs are finite. Nothing changes unless all of it holds.
     pub fn restore(&mut self, state: &State) -> Result<(), Error> {
-        let mut fixed = state.scene.clone();
-        fixed.obstacle.lower = self.scene.obstacle.lower;
-        fixed.obstacle.upper = self.scene.obstacle.upper;
-        fixed.load.pressure = self.scene.load.pressure;
-        fixed.stop_time = self.scene.stop_time;
-        // The QP choice changes how a step is solved, not what it computes: a state moves freely
-        // between the fast path and the clarabel reference.
-        fixed.solver.qp = self.scene.solver.qp;
-        if fixed != self.scene {
+        // A state moves freely between the fast path and the clarabel reference.
+        if state.scene.fixed_part_ignoring_qp() != self.scene.fixed_part_ignoring_qp() {
             return Err(Error::invalid_state(
                 "scene",
                 "<scene>",
@@ -864,22 +888,25 @@ impl Stepper {
             }
         }
         let states = state.check_fields(self.force_tolerance(&state.scene))?;
-        let time = state.step_index as f64 * self.scene.solver.time_step;
-        for (i, &z) in state.base.iter().enumerate() {
-            check_base(&state.scene, time, z).map_err(|e| {
-                Error::invalid_state(
-                    &format!("base[{i}]"),
-                    z,
-                    &format!("must be inside the gap ({e})"),
-                )
-            })?;
-        }
-        let displacements = self.level_displacements(&state.previous, &state.current, state.base);
-        let tolerance = RESTORE_BOUND_TOLERANCE * gap(&state.scene);
-        for (field, u) in ["previous", "current"].iter().zip(&displacements) {
-            if let Some(outside) = first_outside(&state.scene, u, tolerance) {
+        let levels = StoredLevels {
+            step_index: state.step_index,
+            base: state.base,
+            previous: &state.previous,
+            current: &state.current,
+        };
+        let tolerance = RESTORE_BOUND_TOLERANCE * state.scene.gap();
+        match self.first_level_outside(&state.scene, &levels, tolerance) {
+            None => {}
+            Some(LevelOutside::Base { level, error }) => {
                 return Err(Error::invalid_state(
-                    &format!("{field}[vertex {}]", outside.vertex),
+                    &format!("base[{level}]"),
+                    state.base[level],
+                    &format!("must be inside the gap ({error})"),
+                ));
+            }
+            Some(LevelOutside::Vertex { level, outside }) => {
+                return Err(Error::invalid_state(
+                    &format!("{}[vertex {}]", ["previous", "current"][level], outside.index),
                     format!("<u = {:?} m>", outside.value),
                     &format!(
                         "must put every constrained vertex within the obstacles ({}), to {tolerance:e} m",
@@ -910,7 +937,7 @@ impl Stepper {
         self.levels.next.copy_from_slice(&state.current);
         let sums = self.backend.field_sums(&self.levels.current);
         self.current_norm_squared = sums.norm_squared;
-        self.translation = [
+        self.mass_weighted_sums = [
             self.backend.field_sums(&self.levels.previous).translation,
             sums.translation,
         ];
@@ -944,52 +971,26 @@ impl Stepper {
             })
             .fold(0.0, f64::max);
         let dt = scene.solver.time_step;
-        RESTORE_FORCE_TOLERANCE * largest_diagonal * gap(scene) / (dt * dt)
+        RESTORE_FORCE_TOLERANCE * largest_diagonal * scene.gap() / (dt * dt)
     }
 }
 
-/// The distance between the obstacles, or to the one obstacle; 1 m without any.
-fn gap(scene: &Scene) -> f64 {
-    match (scene.lower_obstacle(), scene.upper_obstacle()) {
-        (Some(g1), Some(g2)) => g2 - g1,
-        (Some(g), None) | (None, Some(g)) => g.abs(),
-        (None, None) => 1.0,
-    }
+/// The two stored levels of a stepper or of a state to restore: n, (z_{n−1}, z_n) (m) and the
+/// fields w_{n−1}, w_n in the backend's coordinates.
+struct StoredLevels<'a> {
+    step_index: u64,
+    base: [f64; 2],
+    previous: &'a [f64],
+    current: &'a [f64],
 }
 
-/// An obstacle of the scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Obstacle {
-    Lower,
-    Upper,
-}
-
-/// A constrained vertex found past an obstacle.
-#[derive(Clone, Copy, Debug)]
-struct Outside {
-    obstacle: Obstacle,
-    vertex: usize,
-    value: f64,
-}
-
-/// The first constrained vertex of `u` that lies past an obstacle of `scene` by more than
-/// `tolerance` (m), lower obstacle first.
-fn first_outside(scene: &Scene, u: &[f64], tolerance: f64) -> Option<Outside> {
-    let find = |obstacle, past: &dyn Fn(f64) -> bool| {
-        u.iter().position(|&v| past(v)).map(|vertex| Outside {
-            obstacle,
-            vertex,
-            value: u[vertex],
-        })
-    };
-    let below = scene
-        .lower_obstacle()
-        .and_then(|g| find(Obstacle::Lower, &|v| v < g - tolerance));
-    below.or_else(|| {
-        scene
-            .upper_obstacle()
-            .and_then(|g| find(Obstacle::Upper, &|v| v > g + tolerance))
-    })
+/// Where stored levels leave the obstacles ([`Stepper::first_level_outside`]); `level` is 0 for
+/// n − 1 and 1 for n.
+enum LevelOutside {
+    /// The base value of that level is not strictly inside the gap: the error saying so.
+    Base { level: usize, error: Error },
+    /// A constrained vertex of that level lies past an obstacle.
+    Vertex { level: usize, outside: Outside },
 }
 
 /// The base must stay strictly inside the gap (docs/model.md).
