@@ -105,37 +105,24 @@ pub struct SimulationState {
 /// same tolerance holds for every e.
 pub const BOUND_TOLERANCE: f64 = 1e-7;
 
-/// [`BOUND_TOLERANCE`] × gap (m), the gap being g2 − g1 with a disabled obstacle counted at ±1 m
-/// (so 1 + g2 or 1 − g1 with one obstacle, 2 m with none).
+/// [`BOUND_TOLERANCE`] × [`Scene::gap`] (m): g2 − g1 with both obstacles, |g| with one, 1 m with
+/// none.
 pub fn bound_tolerance(scene: &Scene) -> f64 {
-    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    BOUND_TOLERANCE * (upper.unwrap_or(1.0) - lower.unwrap_or(-1.0))
+    BOUND_TOLERANCE * scene.gap()
 }
 
 /// Refuses an initial state with a vertex past an obstacle (a static preload problem that was not
 /// solved accurately), naming the vertex position and the obstacle.
 fn check_initial_state(stepper: &Stepper) -> Result<(), Error> {
     let scene = stepper.scene();
-    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let tolerance = bound_tolerance(scene);
-    for u in stepper.constrained_displacements() {
-        let past = |g: Option<f64>, below: bool| {
-            g.filter(|&g| {
-                if below {
-                    u < g - tolerance
-                } else {
-                    u > g + tolerance
-                }
-            })
-        };
-        if let Some(g) = past(lower, true).or(past(upper, false)) {
-            return Err(Error::ContactSolver(format!(
-                "the initial state (static equilibrium under initial.preload_pressure = {} Pa) puts a vertex at u = {u} m, past the obstacle at {g} m: the static contact problem was not solved accurately for these parameters (material.young_modulus = {} Pa)",
-                scene.initial.preload_pressure, scene.material.young_modulus
-            )));
-        }
+    let constrained = stepper.constrained_displacements();
+    match scene.first_outside(&constrained, bound_tolerance(scene)) {
+        Some(outside) => Err(Error::ContactSolver(format!(
+            "the initial state (static equilibrium under initial.preload_pressure = {} Pa) puts a vertex at u = {} m, past the obstacle at {} m: the static contact problem was not solved accurately for these parameters (material.young_modulus = {} Pa)",
+            scene.initial.preload_pressure, outside.value, outside.level, scene.material.young_modulus
+        ))),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// One simulation of a scene, advanced by communication steps.

@@ -42,9 +42,11 @@ def test_the_energy_balance_holds_between_communication_points(new_plate, steps,
     print(f"{steps} h, {'damped' if damped else 'undamped'}: worst balance residual {residual:.2e} of the "
           f"energy scale {scale:.2f} J; base work {base[-1]:.2f} J, load work {load[-1]:.3f} J, "
           f"contact loss {contact[-1]:.2f} J, damping loss {damping[-1]:.2f} J")
-    # The scheme's identity holds per internal step to round-off (~1e-13 of the scale per step over
-    # 5000 steps), and the interpolation between grid points is linear, so it carries over.
-    assert residual <= 1e-9
+    # The scheme's identity holds per internal step to round-off (measured 1e-13 of the scale over
+    # 5000 steps of the modal backend, the library's tests assert 1e-12), and the interpolation
+    # between grid points is linear, so it carries over: 1e-11 leaves a factor 100 for the sums'
+    # round-off growing with the step count.
+    assert residual <= 1e-11
     assert np.count_nonzero(rows[:, 5]) > 20, "the plate must hit the obstacles"
     assert contact[-1] > 0.01 * scale and np.all(np.diff(contact) >= -1e-12 * scale)
     assert load[-1] != 0.0, "the pressure change must do work"

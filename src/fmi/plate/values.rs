@@ -201,18 +201,10 @@ pub fn first_non_finite(
 /// level). Every impact law keeps every level within the obstacles, so the check holds for every
 /// restitution e.
 pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static str, f64, f64)> {
-    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let tolerance = bound_tolerance(scene);
-    [
-        ("corner1.displacement", outputs.corner1),
-        ("corner2.displacement", outputs.corner2),
-    ]
-    .into_iter()
-    .find_map(|(name, u)| {
-        let below = lower.filter(|&g| u < g - tolerance);
-        let above = upper.filter(|&g| u > g + tolerance);
-        below.or(above).map(|g| (name, u, g))
-    })
+    const CORNERS: [&str; 2] = ["corner1.displacement", "corner2.displacement"];
+    scene
+        .first_outside(&[outputs.corner1, outputs.corner2], bound_tolerance(scene))
+        .map(|outside| (CORNERS[outside.index], outside.value, outside.level))
 }
 
 #[cfg(test)]
