@@ -4,8 +4,8 @@
     .venv/bin/python examples/fmu_read_cost.py [--steps 2000] [--fmu target/fmu/PlateImpact.fmu]
 
 Runs the paper's forced scene at 35 Hz (10 x 7 Argyris mesh, internal step 0.1 ms, ten internal
-steps per doStep) and times, after every doStep: the doStep itself, reading the 7 Real outputs one
-value reference per fmi2GetReal call (as some hosts do), reading every output (7 Real, 1 Integer)
+steps per doStep) and times, after every doStep: the doStep itself, reading the Real outputs one
+value reference per fmi2GetReal call (as some hosts do), reading every output (Real and Integer)
 in two calls through fmpy's wrappers, the same two calls straight through ctypes with arrays made
 once, and two empty calls (nvr = 0: the FMU checks the call and returns) as the floor of what
 Python pays per call. Prints the medians (microseconds) and each read's ratio to the step. The FMU
@@ -74,8 +74,9 @@ def main():
     fmu.terminate()
     fmu.freeInstance()
     median = {name: 1e6 * statistics.median(x) for name, x in
-              [("doStep", step), ("7 reads", one_by_one), ("2 reads", all_at_once), ("2 raw", raw), ("2 empty", empty)]}
-    labels = {"doStep": "doStep (1 ms, 10 internal steps)", "7 reads": "7 Real outputs, one fmpy getReal each",
+              [("doStep", step), ("one by one", one_by_one), ("2 reads", all_at_once), ("2 raw", raw), ("2 empty", empty)]}
+    labels = {"doStep": "doStep (1 ms, 10 internal steps)",
+              "one by one": f"{len(reals)} Real outputs, one fmpy getReal each",
               "2 reads": "every output, fmpy getReal + getInteger", "2 raw": "every output, 2 raw ctypes calls",
               "2 empty": "2 empty raw ctypes calls (call overhead)"}
     print(f"forced-35hz through fmpy, medians over {args.steps} communication steps:")

@@ -1,4 +1,4 @@
-//! The outputs a coupled simulation needs (docs/scheme-damping-energy.md): the exact energy balance
+//! The outputs a coupled simulation needs (docs/scheme.md §11–12): the exact energy balance
 //! of the scheme, E(t) − E(t_1) = base work + load work − contact loss − damping loss; the force
 //! on the base against Newton's law for a plate that follows its base rigidly and against a static
 //! load; and the per-step contact report.

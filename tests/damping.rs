@@ -1,4 +1,4 @@
-//! Rayleigh damping C = αM + βK on the motion relative to the base (docs/scheme-damping-energy.md):
+//! Rayleigh damping C = αM + βK on the motion relative to the base (docs/scheme.md §10):
 //! the damping ratio of the first mode measured from a released plate's decay against
 //! ζ_1 = α/(2ω_1) + βω_1/2, the energy law with damping, the start step without a damping term,
 //! and the two linear backends against each other.

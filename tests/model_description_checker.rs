@@ -24,7 +24,7 @@ fn rejected(xml: &str, words: &[&str]) {
 #[test]
 fn the_shipped_description_passes_and_generates_the_table() {
     let model = check(XML).unwrap();
-    assert_eq!(model.variables.len(), 28);
+    assert_eq!(model.variables.len(), 38);
     let code = generate(&model);
     assert!(code.contains("pub const PLATE_LENGTH: u32 = 1;"), "{code}");
     assert!(code.contains("pub const CONTACT_ACTIVE_NODES: u32 = 43;"));
@@ -94,15 +94,15 @@ fn missing_or_forbidden_start() {
     rejected(
         &broken(
             r#"<Real unit="m" start="0"/></ScalarVariable>
-    <!-- 21 -->"#,
+    <!-- 23 -->"#,
             r#"<Real unit="m"/></ScalarVariable>
-    <!-- 21 -->"#,
+    <!-- 23 -->"#,
         ),
         &["base.displacement", "start value is required"],
     );
     rejected(
-        &broken(r#"<Real unit="N"/>"#, r#"<Real unit="N" start="0"/>"#),
-        &["contact.force", "not allowed"],
+        &broken(r#"<Real unit="N.s"/>"#, r#"<Real unit="N.s" start="0"/>"#),
+        &["contact.impulse", "not allowed"],
     );
 }
 
@@ -155,7 +155,7 @@ fn enumeration_start_not_an_item() {
 #[test]
 fn model_structure_must_list_the_outputs() {
     rejected(
-        &broken("<Outputs>\n      <Unknown index=\"21\"/>\n", "<Outputs>\n"),
+        &broken("<Outputs>\n      <Unknown index=\"23\"/>\n", "<Outputs>\n"),
         &["ModelStructure/Outputs"],
     );
 }

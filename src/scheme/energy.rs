@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 /// Energy that enters or leaves the plate over one step, or summed over steps (J), such that the
 /// discrete energy changes by `base_work + load_work − contact_loss − damping_loss`
-/// (docs/scheme-damping-energy.md derives each term from the scheme).
+/// (docs/scheme.md §12 derives each term from the scheme).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyFlows {
     /// Work of the force the base supplies: ½(z_{n+1} − z_{n−1}) G_n.
@@ -21,7 +21,8 @@ pub struct EnergyFlows {
     /// ¼(p_{n+1} + p_{n−1})(L_{n+1} − L_{n−1}) − ½p_{n+1}(L_{n+1} + L_n) + ½p_n(L_n + L_{n−1})
     /// with L_k = Fᵀu_k for a 1 Pa pressure.
     pub load_work: f64,
-    /// Energy removed at the obstacles: −½ f_nᵀB(u_{n+1} − u_{n−1}), ≥ 0 for e = 0.
+    /// Energy removed at the obstacles: −½ f_nᵀB(u_{n+1} − u_{n−1}), ≥ 0 for every restitution e
+    /// (docs/scheme.md §8, §12).
     pub contact_loss: f64,
     /// Energy removed by damping: Δwᵀ C Δw / (4Δt), Δw = w_{n+1} − w_{n−1}, ≥ 0.
     pub damping_loss: f64,

@@ -54,7 +54,7 @@ pub struct StepReport {
     pub impact: bool,
     /// The energy that entered and left the plate in this step (J). All zero for the start step,
     /// which has no exact energy identity (its equation is not the scheme's, see
-    /// docs/scheme-damping-energy.md): [`Outputs`] sums the flows from the second step on.
+    /// docs/scheme.md §12): [`Outputs`] sums the flows from the second step on.
     pub flows: EnergyFlows,
 }
 
@@ -511,7 +511,7 @@ impl Stepper {
     /// G_n, the vertical force the base supplies to the plate in the step being solved, from the
     /// scheme's equation at t_n tested with the rigid translation 𝟙 (K𝟙 = 0, and 𝟙ᵀC = α(M𝟙)ᵀ is
     /// the reaction of the mass-proportional dashpots, which act from the base frame, so that G
-    /// is the whole force through the base; docs/scheme-damping-energy.md):
+    /// is the whole force through the base; docs/scheme.md §11):
     /// G_n = 𝟙ᵀM(u_{n+1} − 2u_n + u_{n−1})/Δt² − F̄_n∫1 − Σ_i f_i, where 𝟙ᵀMu = M_tot z + m₁ᵀw.
     /// The start step's equation 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 + R_0 gives
     /// G_0 = 2𝟙ᵀM(u_1 − u_0)/Δt² − F̄_0∫1 − Σ_i f_i.

@@ -1,5 +1,11 @@
 //! The internal time grid of a simulation: t_n = t_start + n Δt, always computed from the step
-//! count n, never accumulated, so it does not drift.
+//! count n, never accumulated, so it does not drift, and where a communication step ends on it.
+//!
+//! A communication step from the communication point t to t + h ends at the first grid point
+//! t_N ≥ t + h ([`TimeGrid::step_end`]): the simulation computes the grid up to t_N, and t + h is
+//! either t_N itself (within [`TimeGrid::snap_tolerance`], which absorbs the round-off of hosts
+//! that compute h as a difference of communication points) or lies strictly between t_{N−1} and
+//! t_N. The grid never depends on the host's steps.
 //!
 //! Two limits keep every communication step finite and every grid time meaningful:
 //! * [`MAX_STEPS_PER_CALL`] internal steps per communication step at most;
@@ -19,8 +25,10 @@ pub const MAX_STEPS_PER_CALL: u64 = 1 << 36;
 /// The largest spacing of doubles at a grid time, as a fraction of Δt (see the module docs).
 pub const GRID_RESOLUTION: f64 = 1.0 / 1024.0;
 
-/// Relative tolerance on a communication step size h = kΔt: |h − kΔt| ≤ 1e-9 h. It absorbs the
-/// round-off of hosts that compute h as a difference of communication points.
+/// Relative tolerance, in units of h, within which a communication point t + h counts as the grid
+/// point t_N (see [`TimeGrid::snap_tolerance`]). It absorbs the round-off of hosts that compute h
+/// as a difference of communication points: fmpy's t_{k+1} − t_k takes nine different values
+/// around 1e-3, all of which must mean ten steps of 1e-4 s.
 pub const STEP_TOLERANCE: f64 = 1e-9;
 
 /// Why a communication step or a grid time is refused.
@@ -30,13 +38,6 @@ pub enum GridError {
     InvalidStep {
         /// The step size (s).
         step_size: f64,
-    },
-    /// h is not a whole multiple of Δt within [`STEP_TOLERANCE`].
-    NotAMultiple {
-        /// The step size (s).
-        step_size: f64,
-        /// Δt (s).
-        time_step: f64,
     },
     /// h needs more than [`MAX_STEPS_PER_CALL`] internal steps.
     TooManySteps {
@@ -60,14 +61,6 @@ impl fmt::Display for GridError {
             GridError::InvalidStep { step_size } => write!(
                 f,
                 "communicationStepSize h = {step_size} s must be finite and > 0"
-            ),
-            GridError::NotAMultiple {
-                step_size,
-                time_step,
-            } => write!(
-                f,
-                "communicationStepSize h = {step_size} s is not a whole multiple of solver.time_step Δt = {time_step} s (h/Δt = {}); use h = k·Δt",
-                step_size / time_step
             ),
             GridError::TooManySteps { step_size, steps } => write!(
                 f,
@@ -123,26 +116,77 @@ impl TimeGrid {
         }
     }
 
-    /// The number k of internal steps in a communication step h = kΔt: 1 ≤ k ≤
-    /// [`MAX_STEPS_PER_CALL`], |h − kΔt| ≤ [`STEP_TOLERANCE`]·h.
-    pub fn steps_in(&self, h: f64) -> Result<u64, GridError> {
+    /// Within how much of a grid point (s) the communication point `target` (t + h − t_start)
+    /// counts as that grid point, for a step of size `h`: [`STEP_TOLERANCE`]·h, at most
+    /// Δt·[`GRID_RESOLUTION`], plus two spacings of doubles at t + h (the round-off of forming
+    /// t + h and t_N). Every h that lies within [`STEP_TOLERANCE`]·h of a whole multiple of Δt from
+    /// a grid point (and is below ~10⁶ Δt) is on the grid.
+    pub fn snap_tolerance(&self, target: f64, h: f64) -> f64 {
+        let round_off = spacing(target).max(spacing(self.start + target));
+        (STEP_TOLERANCE * h).min(GRID_RESOLUTION * self.step) + 2.0 * round_off
+    }
+
+    /// Where a communication step of size `h` ends when the communication point is `from`
+    /// (t − t_start, s) and the simulation has computed the grid up to index `computed` (so
+    /// t_{computed−1} < t ≤ t_computed): the first grid index N with t_N ≥ t + h, and whether
+    /// t + h is t_N (within [`TimeGrid::snap_tolerance`]) or lies strictly before it. N is never
+    /// below `computed`: a step that ends before the last computed grid point computes nothing.
+    /// Refused: h not finite and > 0, or more than [`MAX_STEPS_PER_CALL`] new internal steps.
+    pub fn step_end(&self, from: f64, computed: u64, h: f64) -> Result<StepEnd, GridError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(GridError::InvalidStep { step_size: h });
         }
-        let k = (h / self.step).round();
-        if k > MAX_STEPS_PER_CALL as f64 {
-            return Err(GridError::TooManySteps {
-                step_size: h,
-                steps: h / self.step,
-            });
+        let target = from + h;
+        let x = target / self.step;
+        let too_many = |steps: f64| GridError::TooManySteps {
+            step_size: h,
+            steps,
+        };
+        // Checked on the real number first, so that h = 1e300 never reaches an integer.
+        if x - computed as f64 > MAX_STEPS_PER_CALL as f64 + 1.0 {
+            return Err(too_many(x - computed as f64));
         }
-        if k < 1.0 || (k * self.step - h).abs() > STEP_TOLERANCE * h {
-            return Err(GridError::NotAMultiple {
-                step_size: h,
-                time_step: self.step,
-            });
+        let nearest = x.round();
+        let end = if nearest >= computed as f64
+            && (self.elapsed(nearest as u64) - target).abs() <= self.snap_tolerance(target, h)
+        {
+            StepEnd {
+                index: nearest as u64,
+                between: None,
+            }
+        } else {
+            let mut index = (x.ceil() as u64).max(computed);
+            // x is rounded: make sure t_N really lies at or after t + h.
+            while self.elapsed(index) < target {
+                index += 1;
+            }
+            StepEnd {
+                index,
+                between: Some(target),
+            }
+        };
+        let steps = end.index - computed;
+        if steps > MAX_STEPS_PER_CALL {
+            return Err(too_many(steps as f64));
         }
-        Ok(k as u64)
+        Ok(end)
+    }
+}
+
+/// Where a communication step ends on the grid ([`TimeGrid::step_end`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepEnd {
+    /// N: the grid index the simulation must reach, the first with t_N ≥ t + h.
+    pub index: u64,
+    /// t + h − t_start (s) when the communication point lies strictly between t_{N−1} and t_N;
+    /// `None` when it is t_N.
+    pub between: Option<f64>,
+}
+
+impl StepEnd {
+    /// t + h − t_start (s): exactly N Δt when the step ends on the grid.
+    pub fn elapsed(&self, grid: &TimeGrid) -> f64 {
+        self.between.unwrap_or_else(|| grid.elapsed(self.index))
     }
 }
 
@@ -155,39 +199,89 @@ mod tests {
         step: 1e-4,
     };
 
+    fn on_grid(index: u64) -> Result<StepEnd, GridError> {
+        Ok(StepEnd {
+            index,
+            between: None,
+        })
+    }
+
     #[test]
-    fn whole_multiples_within_the_tolerance() {
-        assert_eq!(GRID.steps_in(1e-3), Ok(10));
-        // The nine values fmpy passes as t_{k+1} − t_k around 1e-3 all mean ten steps.
+    fn whole_multiples_land_on_the_grid() {
+        assert_eq!(GRID.step_end(0.0, 0, 1e-3), on_grid(10));
+        // The nine values fmpy passes as t_{k+1} − t_k around 1e-3 all mean ten steps, from every
+        // grid point they are used at (the fmpy time is k·1e-3, the grid time 10k·1e-4).
         for k in 1..2000u32 {
             let h = f64::from(k + 1) * 1e-3 - f64::from(k) * 1e-3;
-            assert_eq!(GRID.steps_in(h), Ok(10), "h = {h}");
+            let n = 10 * u64::from(k);
+            assert_eq!(
+                GRID.step_end(GRID.elapsed(n), n, h),
+                on_grid(n + 10),
+                "h = {h}"
+            );
         }
-        assert!(matches!(
-            GRID.steps_in(1.5e-4),
-            Err(GridError::NotAMultiple { .. })
-        ));
-        assert!(matches!(
-            GRID.steps_in(4e-5),
-            Err(GridError::NotAMultiple { .. })
-        ));
+        // Far from the start the round-off of t + h exceeds 1e-9 h; still on the grid.
+        let n = 4_000_000_000_000;
+        let from = GRID.elapsed(n);
+        assert_eq!(GRID.step_end(from, n, 3e-4), on_grid(n + 3));
         for h in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
             assert!(matches!(
-                GRID.steps_in(h),
+                GRID.step_end(0.0, 0, h),
                 Err(GridError::InvalidStep { .. })
             ));
         }
     }
 
     #[test]
+    fn other_steps_end_before_the_next_grid_point() {
+        let between = |index, target| {
+            Ok(StepEnd {
+                index,
+                between: Some(target),
+            })
+        };
+        assert_eq!(GRID.step_end(0.0, 0, 1.5e-4), between(2, 1.5e-4));
+        assert_eq!(GRID.step_end(0.0, 0, 0.5e-4), between(1, 0.5e-4));
+        assert_eq!(GRID.step_end(0.0, 0, 1e-9), between(1, 1e-9));
+        // From between t_1 and t_2, with t_2 already computed: nothing new to compute...
+        assert_eq!(
+            GRID.step_end(1.5e-4, 2, 0.2e-4),
+            between(2, 1.5e-4 + 0.2e-4)
+        );
+        // ...until the step reaches t_2 (snapped onto it) or goes beyond it.
+        assert_eq!(GRID.step_end(1.5e-4, 2, 0.5e-4), on_grid(2));
+        assert_eq!(GRID.step_end(1.5e-4, 2, 1e-4), between(3, 1.5e-4 + 1e-4));
+        // fmpy's last step to a stop time off the grid.
+        let from = GRID.elapsed(9990);
+        let end = GRID.step_end(from, 9990, 0.99995 - 0.999).unwrap();
+        assert_eq!(end.index, 10000);
+        assert!((end.elapsed(&GRID) - 0.99995).abs() < 1e-15);
+        // Random steps: t_{N−1} < t + h ≤ t_N whenever t + h is off the grid.
+        let (mut from, mut computed) = (0.0, 0);
+        for k in 0..10_000u32 {
+            let h = 1e-4 * (0.01 + 3.0 * ((f64::from(k) * 0.618_034).fract()));
+            let end = GRID.step_end(from, computed, h).unwrap();
+            if let Some(target) = end.between {
+                assert!(GRID.elapsed(end.index - 1) < target && target < GRID.elapsed(end.index));
+            }
+            assert!(end.index >= computed);
+            (from, computed) = (end.elapsed(&GRID), end.index);
+        }
+    }
+
+    #[test]
     fn huge_steps_are_refused_at_once() {
         for h in [1e300, 1e12] {
-            let err = GRID.steps_in(h).unwrap_err();
+            let err = GRID.step_end(0.0, 0, h).unwrap_err();
             assert!(matches!(err, GridError::TooManySteps { .. }));
             assert!(err.to_string().contains("68719476736"), "{err}");
         }
         let largest = MAX_STEPS_PER_CALL as f64 * 1e-4;
-        assert_eq!(GRID.steps_in(largest), Ok(MAX_STEPS_PER_CALL));
+        assert_eq!(
+            GRID.step_end(0.0, 0, largest).map(|e| e.index),
+            Ok(MAX_STEPS_PER_CALL)
+        );
+        assert!(GRID.step_end(0.0, 0, largest + 1e-4).is_err());
     }
 
     #[test]

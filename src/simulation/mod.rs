@@ -1,24 +1,35 @@
 //! A co-simulation of one scene, communication step by communication step: the model the FMU
 //! drives, usable without FMI by tests and examples.
 //!
-//! * [`grid`]: the internal time grid t_n = t_start + nΔt and the limits on a communication step;
-//! * [`input`]: how a sampled external base displacement is applied inside a communication step.
+//! * [`grid`]: the internal time grid t_n = t_start + nΔt, where a communication step ends on it,
+//!   and the limits on a communication step;
+//! * [`input`]: how a sampled external base displacement is applied on the grid;
+//! * [`interpolation`]: the outputs at a communication point between two grid points;
+//! * [`contact_summary`]: impacts, impulse and peak contact force over a communication step.
 //!
 //! The base displacement of the plate is the scene's built-in sine c sin(2πf(t − t_start)) plus
-//! the external signal. A communication step of k internal steps plans the external base on the
-//! grid it covers ([`input`]), runs the k steps of the [`Stepper`], reports each to an observer,
-//! and returns a [`CommunicationStep`] summary. Outputs are computed at most once per state, on
-//! demand, and cached until the state changes.
+//! the external signal. The internal steps always lie on the fixed grid, whatever the host's
+//! communication steps: a communication step from t to t + h computes the grid up to the first
+//! grid point t_N ≥ t + h (none when the grid already reaches it), with the external base planned
+//! by [`input`], reports each internal step to an observer, and returns a [`CommunicationStep`]
+//! summary. When t + h lies between t_{N−1} and t_N the outputs are those at t + h
+//! ([`interpolation`]). What the contact did over the internal steps whose grid times lie in
+//! (t, t + h] is summarised in [`contact_summary`]. Outputs are computed at most once per state,
+//! on demand, and cached until the state changes.
 
+pub mod contact_summary;
 pub mod grid;
 pub mod input;
+pub mod interpolation;
 
 use crate::error::Error;
 use crate::scene::Scene;
 use crate::scheme::Stepper;
 pub use crate::scheme::{Outputs, State, StepPath, StepReport};
-use grid::TimeGrid;
+use contact_summary::ContactSummary;
+use grid::{GridError, StepEnd, TimeGrid};
 use input::{InputHistory, InputSample};
+use interpolation::{interpolate, CommunicationPoint};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
 
@@ -41,10 +52,10 @@ impl InternalStep<'_> {
     }
 }
 
-/// What one communication step did, aggregated over its internal steps.
+/// What one communication step did, aggregated over the internal steps it computed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CommunicationStep {
-    /// Internal steps taken.
+    /// Internal steps computed.
     pub internal_steps: u64,
     /// Internal steps solved less exactly than the normal path (see [`InternalStep::degraded`]).
     pub degraded_steps: u64,
@@ -68,6 +79,13 @@ pub struct SimulationState {
     pub stepper: State,
     /// The interpolation history of the external base.
     pub input: InputHistory,
+    /// Where the communication point lies on the grid the stepper has computed.
+    pub point: CommunicationPoint,
+    /// The contact over the last communication step.
+    pub contact: ContactSummary,
+    /// The contact of the internal step computed ahead of the communication point, not yet
+    /// reported (empty when the communication point is on the grid).
+    pub contact_ahead: ContactSummary,
 }
 
 /// How far past an obstacle a vertex may lie, as a fraction of the gap (of 1 m with one obstacle),
@@ -109,9 +127,15 @@ pub struct Simulation {
     stepper: Stepper,
     grid: TimeGrid,
     input: InputHistory,
+    point: CommunicationPoint,
+    contact: ContactSummary,
+    contact_ahead: ContactSummary,
     /// The stepper at n = 0 and the external base it was built for, for [`Simulation::restart`].
     initial: (State, f64),
-    outputs: OnceCell<Outputs>,
+    /// The outputs at the last computed grid point t_N.
+    grid_outputs: OnceCell<Outputs>,
+    /// The outputs at the communication point, when it lies before t_N.
+    interpolated: OnceCell<Outputs>,
 }
 
 impl Simulation {
@@ -128,7 +152,11 @@ impl Simulation {
                 step: scene.solver.time_step,
             },
             input: InputHistory::new(external_base),
-            outputs: OnceCell::new(),
+            point: CommunicationPoint::OnGrid,
+            contact: ContactSummary::default(),
+            contact_ahead: ContactSummary::default(),
+            grid_outputs: OnceCell::new(),
+            interpolated: OnceCell::new(),
             stepper,
         })
     }
@@ -167,7 +195,10 @@ impl Simulation {
         self.initial = (state, external_base);
         self.grid.start = start_time;
         self.input = InputHistory::new(external_base);
-        self.outputs = OnceCell::new();
+        self.point = CommunicationPoint::OnGrid;
+        self.contact = ContactSummary::default();
+        self.contact_ahead = ContactSummary::default();
+        self.invalidate_outputs();
         Ok(SetUp::Reused)
     }
 
@@ -188,40 +219,119 @@ impl Simulation {
         &self.grid
     }
 
-    /// n.
+    /// N, the index of the last computed grid point.
     pub fn step_index(&self) -> u64 {
         self.stepper.step_index()
     }
 
-    /// t_n = t_start + nΔt (s).
-    pub fn time(&self) -> f64 {
+    /// t_N = t_start + NΔt, the last computed grid time (s): the communication time, or up to one
+    /// grid step after it.
+    pub fn grid_time(&self) -> f64 {
         self.grid.time(self.stepper.step_index())
     }
 
-    /// The outputs of the current state, computed on the first call after each change.
-    pub fn outputs(&self) -> &Outputs {
-        self.outputs.get_or_init(|| self.stepper.outputs())
+    /// The communication time t (s): t_N when it lies on the grid.
+    pub fn time(&self) -> f64 {
+        self.grid.start + self.elapsed()
     }
 
-    /// Advances `steps` internal steps with the external base planned from `sample` (see
-    /// [`input`]), calling `observer` after each. On an error the steps before it stay taken.
+    /// t − t_start (s).
+    fn elapsed(&self) -> f64 {
+        self.point.elapsed(&self.grid, self.stepper.step_index())
+    }
+
+    /// The outputs at the communication time, computed on the first call after each change.
+    pub fn outputs(&self) -> &Outputs {
+        match &self.point {
+            CommunicationPoint::OnGrid => self.grid_outputs(),
+            CommunicationPoint::Between { elapsed, previous } => {
+                self.interpolated.get_or_init(|| {
+                    let n = self.stepper.step_index();
+                    let theta = (elapsed - self.grid.elapsed(n - 1)) / self.grid.step;
+                    interpolate(previous, self.grid_outputs(), theta)
+                })
+            }
+        }
+    }
+
+    /// The contact over the internal steps of the last communication step (zero before the first).
+    pub fn contact(&self) -> &ContactSummary {
+        &self.contact
+    }
+
+    /// The outputs at the last computed grid point t_N.
+    fn grid_outputs(&self) -> &Outputs {
+        self.grid_outputs.get_or_init(|| self.stepper.outputs())
+    }
+
+    fn invalidate_outputs(&mut self) {
+        self.grid_outputs = OnceCell::new();
+        self.interpolated = OnceCell::new();
+    }
+
+    /// Where a communication step of size `h` (s) from the communication time ends on the grid;
+    /// refused (nothing changes) for h not finite and > 0, or beyond the step cap.
+    pub fn step_end(&self, h: f64) -> Result<StepEnd, GridError> {
+        self.grid
+            .step_end(self.elapsed(), self.stepper.step_index(), h)
+    }
+
+    /// Advances the communication time to `end` (from [`Simulation::step_end`]): computes the grid
+    /// up to t_N with the external base planned from `sample`, the sample at the communication
+    /// time (see [`input`]), calling `observer` after each internal step. On an error the steps
+    /// before it stay taken and the communication time is the last grid point reached.
     pub fn advance(
         &mut self,
-        steps: u64,
+        end: &StepEnd,
         sample: &InputSample,
         observer: &mut dyn FnMut(&InternalStep),
     ) -> Result<CommunicationStep, Error> {
         let n0 = self.stepper.step_index();
-        let dt = self.grid.step;
-        let start = self.grid.elapsed(n0);
-        let plan = self.input.plan(start, sample, steps as f64 * dt);
-        let mut previously_active = self.outputs().active_nodes;
-        self.outputs = OnceCell::new();
+        let sample_time = self.elapsed();
         let mut summary = CommunicationStep::default();
+        // The step computed ahead (at t_{n0}) belongs to this communication step if it reaches
+        // t_{n0}; it does unless it ends before t_{n0} again.
+        let reaches_ahead = end.index > n0 || end.between.is_none();
+        self.contact = if reaches_ahead {
+            std::mem::take(&mut self.contact_ahead)
+        } else {
+            ContactSummary::default()
+        };
+        if end.index == n0 {
+            self.input.record(sample_time, sample.value);
+            let previous = match &self.point {
+                CommunicationPoint::Between { previous, .. } => Some(previous.clone()),
+                CommunicationPoint::OnGrid => None,
+            };
+            self.move_point(end, previous);
+            return Ok(summary);
+        }
+        let dt = self.grid.step;
+        let computed = self.grid.elapsed(n0);
+        let steps = end.index - n0;
+        let plan = self
+            .input
+            .plan(sample_time, sample, computed, steps as f64 * dt);
+        let mut previously_active = self.grid_outputs().active_nodes;
+        // The outputs at t_{N−1}, needed when the communication point lies before t_N.
+        let mut previous = None;
+        self.point = CommunicationPoint::OnGrid;
+        self.interpolated = OnceCell::new();
         for i in 1..=steps {
+            let ahead = i == steps && end.between.is_some();
+            if ahead {
+                previous = Some(self.grid_outputs().clone());
+            }
             let n = n0 + i;
             let base = self.scene().builtin_base(self.grid.elapsed(n)) + plan.at(i as f64 * dt);
+            self.grid_outputs = OnceCell::new();
             let report = self.stepper.step(base)?;
+            let contact = if ahead {
+                &mut self.contact_ahead
+            } else {
+                &mut self.contact
+            };
+            contact.add(report.contact_force, report.impact, dt);
             let step = InternalStep {
                 time: self.grid.time(n),
                 report: &report,
@@ -232,21 +342,33 @@ impl Simulation {
             observer(&step);
             previously_active = report.active;
         }
-        self.input.finish(start, &plan);
+        self.input.finish(sample_time, &plan);
+        self.move_point(end, previous);
         Ok(summary)
+    }
+
+    /// Moves the communication point to `end`, which lies between grid points when `previous`, the
+    /// outputs at t_{N−1}, are given: a step that ends between grid points either computed them or
+    /// ends in the interval of the point it started from, whose outputs at t_{N−1} it passes on.
+    fn move_point(&mut self, end: &StepEnd, previous: Option<Outputs>) {
+        self.point = match (end.between, previous) {
+            (Some(elapsed), Some(previous)) => CommunicationPoint::Between { elapsed, previous },
+            _ => CommunicationPoint::OnGrid,
+        };
+        self.interpolated = OnceCell::new();
     }
 
     /// Moves the obstacles (tunable); see [`Stepper::set_obstacles`].
     pub fn set_obstacles(&mut self, lower: f64, upper: f64) -> Result<(), Error> {
         self.stepper.set_obstacles(lower, upper)?;
-        self.outputs = OnceCell::new();
+        self.invalidate_outputs();
         Ok(())
     }
 
     /// Changes the pressure from the next step on (tunable).
     pub fn set_pressure(&mut self, pressure: f64) -> Result<(), Error> {
         self.stepper.set_pressure(pressure)?;
-        self.outputs = OnceCell::new();
+        self.invalidate_outputs();
         Ok(())
     }
 
@@ -256,12 +378,16 @@ impl Simulation {
             start_time: self.grid.start,
             stepper: self.stepper.state(),
             input: self.input.clone(),
+            point: self.point.clone(),
+            contact: self.contact,
+            contact_ahead: self.contact_ahead,
         }
     }
 
     /// Continues from `state`, taken from a simulation with the same fixed parameters. The state
-    /// is untrusted: its grid and input history are checked here, the stepper's fields by
-    /// [`Stepper::restore`]; nothing changes unless everything checks out.
+    /// is untrusted: its grid, communication point, input history and contact summaries are
+    /// checked here, the stepper's fields by [`Stepper::restore`]; nothing changes unless
+    /// everything checks out.
     pub fn restore(&mut self, state: &SimulationState) -> Result<(), Error> {
         let grid = TimeGrid {
             start: state.start_time,
@@ -273,13 +399,28 @@ impl Simulation {
             .and_then(|()| grid.check_resolves(grid.time(n)))
             .map_err(|e| invalid(format!("has a time grid that {e}")))?;
         state
-            .input
-            .check(grid.elapsed(n))
+            .point
+            .check(&grid, n, self.stepper.constrained_count())
+            .and_then(|()| state.input.check(state.point.elapsed(&grid, n)))
+            .and_then(|()| {
+                state
+                    .contact
+                    .check("contact of the last communication step", n)
+            })
+            .and_then(|()| {
+                let pending = u64::from(matches!(state.point, CommunicationPoint::Between { .. }));
+                state
+                    .contact_ahead
+                    .check("contact of the step computed ahead", pending)
+            })
             .map_err(|e| invalid(format!("is inconsistent: {e}")))?;
         self.stepper.restore(&state.stepper)?;
         self.grid = grid;
         self.input = state.input.clone();
-        self.outputs = OnceCell::new();
+        self.point = state.point.clone();
+        self.contact = state.contact;
+        self.contact_ahead = state.contact_ahead;
+        self.invalidate_outputs();
         Ok(())
     }
 }
@@ -288,18 +429,36 @@ impl Simulation {
 mod tests {
     use super::*;
 
-    fn corner_trace(sim: &mut Simulation, steps: usize) -> Vec<u64> {
+    /// One communication step of size `h` with the external base sample `value`.
+    fn step(sim: &mut Simulation, h: f64, value: f64) -> CommunicationStep {
+        let end = sim.step_end(h).unwrap();
+        let sample = InputSample {
+            value,
+            ..InputSample::default()
+        };
+        sim.advance(&end, &sample, &mut |_| {}).unwrap()
+    }
+
+    /// A fixed pseudo-random factor in [0.2, 1.5] for communication step k.
+    fn factor(k: usize) -> f64 {
+        0.2 + 1.3 * (k as f64 * 0.618_034).fract()
+    }
+
+    /// Bits of corner1 and the energy after each of `steps` communication steps of 3Δt (on the
+    /// grid) or, when `random`, of Δt × a factor in [0.6, 4.5] (mostly off the grid).
+    fn trace(sim: &mut Simulation, steps: usize, random: bool) -> Vec<u64> {
         (0..steps)
             .map(|k| {
-                let sample = InputSample {
-                    value: 1e-3 * (k as f64 * 0.4).sin(),
-                    ..InputSample::default()
-                };
-                sim.advance(3, &sample, &mut |_| {}).unwrap();
+                let h = if random { 3e-4 * factor(k) } else { 3e-4 };
+                step(sim, h, 1e-3 * (k as f64 * 0.4).sin());
                 let o = sim.outputs();
                 o.corner1.to_bits() ^ o.energy_total.to_bits()
             })
             .collect()
+    }
+
+    fn corner_trace(sim: &mut Simulation, steps: usize) -> Vec<u64> {
+        trace(sim, steps, false)
     }
 
     fn small(mut scene: Scene) -> Scene {
@@ -385,13 +544,144 @@ mod tests {
         let scene = small(Scene::default());
         let mut sim = Simulation::new(&scene, 1.0, 0.0).unwrap();
         let mut times = Vec::new();
+        let end = sim.step_end(4e-4).unwrap();
         let summary = sim
-            .advance(4, &InputSample::default(), &mut |s| times.push(s.time))
+            .advance(&end, &InputSample::default(), &mut |s| times.push(s.time))
             .unwrap();
         assert_eq!(summary.internal_steps, 4);
         assert_eq!(
             times,
             (1..=4).map(|n| 1.0 + n as f64 * 1e-4).collect::<Vec<_>>()
         );
+        // A step ending between t_5 and t_6 computes up to t_6; the next one, ending before t_6,
+        // computes nothing.
+        assert_eq!(step(&mut sim, 1.5e-4, 0.0).internal_steps, 2);
+        assert_eq!((sim.step_index(), sim.time()), (6, 1.0 + 5.5e-4));
+        assert_eq!(sim.grid_time(), 1.0 + 6e-4);
+        assert_eq!(step(&mut sim, 0.2e-4, 0.0).internal_steps, 0);
+        assert_eq!(sim.step_index(), 6);
+        assert!((sim.time() - (1.0 + 5.7e-4)).abs() < 1e-15);
+    }
+
+    /// The built-in sine alone: the grid, and so every grid value, is the same whatever the
+    /// communication steps.
+    #[test]
+    fn the_internal_trajectory_does_not_depend_on_the_communication_steps() {
+        let mut scene = small(Scene::default());
+        scene.base.amplitude = 0.009;
+        scene.base.frequency = 35.0;
+        let mut fixed = Simulation::new(&scene, 0.0, 0.0).unwrap();
+        let mut random = Simulation::new(&scene, 0.0, 0.0).unwrap();
+        let mut k = 0;
+        while random.time() < 0.2 {
+            step(&mut random, 1e-3 * factor(k), 0.0);
+            k += 1;
+        }
+        // Land on the next grid point, then bring the fixed run there in whole steps.
+        let n = random.step_index();
+        let rest = random.grid_time() - random.time();
+        step(&mut random, rest, 0.0);
+        assert_eq!(random.step_index(), n);
+        assert_eq!(random.time(), random.grid_time());
+        while fixed.step_index() < n {
+            step(&mut fixed, 1e-4, 0.0);
+        }
+        assert_eq!(random.state().stepper, fixed.state().stepper);
+        assert_eq!(random.outputs(), fixed.outputs());
+    }
+
+    /// Released from a preload onto the lower obstacle with a fixed base, no load and e = 0: the
+    /// energy never increases between communication points of random size, the free corners
+    /// respect the obstacles at every communication point, and every vertex at every grid point.
+    #[test]
+    fn energy_never_increases_between_communication_points() {
+        let mut scene = small(Scene::default());
+        scene.obstacle.upper_enabled = false;
+        scene.initial.preload_pressure = 8600.0 / (0.4 * 0.2);
+        let mut sim = Simulation::new(&scene, 0.0, 0.0).unwrap();
+        let scale = sim.outputs().energy_total.abs();
+        let lower = scene.obstacle.lower;
+        let mut energy = sim.outputs().energy_total;
+        let mut between = 0;
+        for k in 0..1500 {
+            step(&mut sim, 1e-4 * 3.0 * factor(k), 0.0);
+            let o = sim.outputs().clone();
+            // Round-off: the energy identity holds per grid step to ~1e-13 of the scale.
+            assert!(
+                o.energy_total <= energy + 1e-12 * scale,
+                "step {k}: the energy rose from {energy} J to {} J",
+                o.energy_total
+            );
+            energy = o.energy_total;
+            // Round-off of the contact solve: bounds hold to 1e-12 m.
+            assert!(o.corner1 >= lower - 1e-12 && o.corner2 >= lower - 1e-12);
+            let vertices = sim.stepper.constrained_displacements();
+            assert!(vertices.iter().all(|&u| u >= lower - 1e-12));
+            between += usize::from(sim.time() != sim.grid_time());
+        }
+        assert!(between > 1000, "only {between} points off the grid");
+        assert!(
+            energy < 0.9 * scale,
+            "no impact took energy: {energy} J of {scale} J"
+        );
+    }
+
+    /// Every internal step's contact is reported once, with the communication step that reaches
+    /// its grid time: random steps give the totals of single internal steps.
+    #[test]
+    fn contact_between_communication_points_is_reported_once() {
+        let mut scene = small(Scene::default());
+        scene.base.amplitude = 0.009;
+        scene.base.frequency = 35.0;
+        let totals = |random: bool| {
+            let mut sim = Simulation::new(&scene, 0.0, 0.0).unwrap();
+            let mut total = ContactSummary::default();
+            let mut k = 0;
+            while sim.time() < 0.3 - 1e-12 {
+                let h = if random { 1e-3 * factor(k) } else { 1e-4 };
+                let h = h.min(0.3 - sim.time());
+                step(&mut sim, h, 0.0);
+                total.merge(sim.contact());
+                k += 1;
+            }
+            assert_eq!(
+                sim.time(),
+                sim.grid_time(),
+                "the last step lands on t = 0.3 s"
+            );
+            total
+        };
+        let (fine, random) = (totals(false), totals(true));
+        assert!(fine.impacts > 5, "{fine:?}");
+        assert_eq!(random.impacts, fine.impacts);
+        assert_eq!(random.peak_force, fine.peak_force);
+        // The same terms summed in other groups: round-off only.
+        assert!((random.impulse - fine.impulse).abs() <= 1e-12 * fine.impulse.abs());
+    }
+
+    #[test]
+    fn state_round_trip_between_grid_points_continues_bit_identically() {
+        let mut scene = small(Scene::default());
+        scene.base.amplitude = 0.005;
+        let mut sim = Simulation::new(&scene, 0.25, 0.0).unwrap();
+        trace(&mut sim, 8, true);
+        assert_ne!(
+            sim.time(),
+            sim.grid_time(),
+            "the test needs a point between"
+        );
+        let state = sim.state();
+        let expected = trace(&mut sim, 30, true);
+        let mut other = Simulation::from_state(&state).unwrap();
+        assert_eq!(trace(&mut other, 30, true), expected);
+        sim.restore(&state).unwrap();
+        assert_eq!(trace(&mut sim, 30, true), expected);
+        // A crafted point outside its grid interval is refused, naming it.
+        let mut crafted = state.clone();
+        if let CommunicationPoint::Between { elapsed, .. } = &mut crafted.point {
+            *elapsed += 1e-4;
+        }
+        let err = sim.restore(&crafted).unwrap_err().to_string();
+        assert!(err.contains("communication point"), "{err}");
     }
 }

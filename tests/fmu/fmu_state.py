@@ -8,7 +8,7 @@ import struct
 import zlib
 
 MAGIC = b"PLIMPST\0"
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
 
 def decode(data):

@@ -38,6 +38,8 @@ def test_non_finite_parameters(new_plate, name, value):
         ("mesh.nx", 0),
         ("mesh.ny", 100000),
         ("mesh.element", 3),
+        ("damping.mass_proportional", -1.0),
+        ("damping.stiffness_proportional", -1e-9),
         ("obstacle.lower", 0.01),
         ("obstacle.upper", -0.01),
         ("base.amplitude", -0.001),
@@ -88,12 +90,13 @@ def test_base_leaving_the_gap(new_plate):
     p.initialize().step(1e-3)
 
 
-def test_communication_step_must_be_a_multiple_of_the_internal_step(new_plate):
+def test_bad_communication_steps(new_plate):
     p = new_plate().initialize()
-    expect_error(p, lambda: p.fmu.doStep(0.0, 1.5e-4), "0.00015", "0.0001")
     expect_error(p, lambda: p.fmu.doStep(0.0, -1e-3), "communicationStepSize")
+    expect_error(p, lambda: p.fmu.doStep(0.0, math.nan), "communicationStepSize")
     expect_error(p, lambda: p.fmu.doStep(0.5, 1e-3), "currentCommunicationPoint")
-    p.fmu.doStep(0.0, 3e-4)  # a whole multiple is fine
+    p.fmu.doStep(0.0, 1.5e-4)  # any finite h > 0 is fine
+    expect_error(p, lambda: p.fmu.doStep(0.0, 1e-3), "currentCommunicationPoint", "0.00015")
 
 
 def test_calls_in_the_wrong_state(new_plate):

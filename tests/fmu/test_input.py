@@ -1,6 +1,6 @@
 """The input `base.displacement`: a sine fed by fmpy agrees with the built-in sine.
 
-Tolerances, derived from the interpolation rule (src/fmi/input.rs). Over a communication step h
+Tolerances, derived from the interpolation rule (src/simulation/input.rs). Over a communication step h
 the applied base extrapolates the last slope and blends out the mismatch, so for a smooth input
 whose slope is known it errs by at most 2 max|z''| h^2 = 2 c (2 pi f)^2 h^2: second order. At the
 first step no slope is known unless the importer sends one with fmi2SetRealInputDerivatives: a

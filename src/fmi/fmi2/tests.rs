@@ -390,6 +390,21 @@ fn crafted_fmu_states_are_refused_naming_the_field() {
             "-1e308",
             "current[vertex",
         ),
+        (
+            vec!["model", "simulation", "point"],
+            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
+            "not strictly between",
+        ),
+        (
+            vec!["model", "simulation", "contact", "impacts"],
+            "1000",
+            "1000 impacts",
+        ),
+        (
+            vec!["model", "simulation", "contact_ahead", "peak_force"],
+            "5.0",
+            "covers no step",
+        ),
         (vec!["model", "simulation"], "null", "holds no simulation"),
         (vec!["mode"], "\"StepFailed\"", "never enters"),
         (
@@ -562,6 +577,180 @@ fn state_round_trip_is_bit_identical() {
     fresh.set_state(&copy).unwrap();
     assert_eq!(fresh.mode(), Mode::StepComplete);
     assert_eq!(run(&mut fresh), first);
+}
+
+/// A pseudo-random communication step: 1 ms × a factor in [0.2, 1.5].
+fn random_h(k: u32) -> f64 {
+    1e-3 * (0.2 + 1.3 * (f64::from(k) * 0.618_034).fract())
+}
+
+/// Communication steps off the grid: a state saved between two grid points, restored in place
+/// or serialized into a fresh instance, repeats the run bit for bit.
+#[test]
+fn random_steps_round_trip_through_a_serialized_state() {
+    let (mut inst, _) = small();
+    inst.set_real(&[vr::BASE_AMPLITUDE], &[0.005]).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    let run = |inst: &mut Plate, from: u32| {
+        (from..from + 30)
+            .map(|k| {
+                inst.set_real(
+                    &[vr::BASE_DISPLACEMENT],
+                    &[1e-3 * (f64::from(k) * 0.3).sin()],
+                )
+                .unwrap();
+                inst.do_step(inst.time(), random_h(k)).unwrap();
+                [
+                    inst.time(),
+                    real(inst, vr::CORNER1_DISPLACEMENT),
+                    real(inst, vr::ENERGY_TOTAL),
+                ]
+                .map(f64::to_bits)
+            })
+            .collect::<Vec<_>>()
+    };
+    run(&mut inst, 0);
+    let t = inst.time();
+    assert!(
+        ((t / 1e-4).round() * 1e-4 - t).abs() > 1e-9,
+        "t = {t}: the state must be saved between grid points"
+    );
+    let state = inst.get_state().unwrap();
+    let bytes = inst
+        .serialized(Function::SerializeFMUstate, &state)
+        .unwrap()
+        .to_vec();
+    let first = run(&mut inst, 30);
+    inst.set_state(&state).unwrap();
+    assert_eq!(inst.time(), t);
+    assert_eq!(run(&mut inst, 30), first);
+    let (mut fresh, _) = instance();
+    let copy = fresh.deserialize_state(&bytes).unwrap();
+    fresh.set_state(&copy).unwrap();
+    assert_eq!(run(&mut fresh, 30), first);
+}
+
+/// Steps of Δt/2, 3Δt/2 or 1e-9 s: the FMU time is t + h, and whenever it lands on a grid point
+/// the outputs are those of whole steps, bit for bit (the built-in sine: the grid does not depend
+/// on the communication steps).
+#[test]
+fn steps_off_the_grid_report_at_t_plus_h() {
+    let start = || {
+        let (mut inst, _) = small();
+        inst.set_real(&[vr::BASE_AMPLITUDE], &[0.005]).unwrap();
+        inst.set_real(&[vr::BASE_FREQUENCY], &[35.0]).unwrap();
+        inst.enter_initialization_mode().unwrap();
+        inst.exit_initialization_mode().unwrap();
+        inst
+    };
+    let mut whole = start();
+    let mut grid = vec![real(&mut whole, vr::CORNER1_DISPLACEMENT)];
+    for _ in 0..30 {
+        whole.do_step(whole.time(), 1e-4).unwrap();
+        grid.push(real(&mut whole, vr::CORNER1_DISPLACEMENT));
+    }
+    for h in [0.5e-4, 1.5e-4] {
+        let mut inst = start();
+        for k in 1..=20 {
+            inst.do_step(inst.time(), h).unwrap();
+            let t = inst.time();
+            assert!((t - f64::from(k) * h).abs() < 1e-15, "t = {t}");
+            let corner = real(&mut inst, vr::CORNER1_DISPLACEMENT);
+            let n = t / 1e-4;
+            if (n - n.round()).abs() < 1e-9 {
+                assert_eq!(
+                    corner.to_bits(),
+                    grid[n.round() as usize].to_bits(),
+                    "t = {t}"
+                );
+            } else {
+                let (a, b) = (grid[n.floor() as usize], grid[n.ceil() as usize]);
+                assert!(corner >= a.min(b) && corner <= a.max(b), "t = {t}");
+            }
+        }
+    }
+    let mut tiny = start();
+    for k in 1..=5 {
+        tiny.do_step(tiny.time(), 1e-9).unwrap();
+        assert!((tiny.time() - f64::from(k) * 1e-9).abs() < 1e-20);
+    }
+    // 5e-9 s of a step of 1e-4 s: 5e-5 of the way from t_0 to t_1.
+    let corner = real(&mut tiny, vr::CORNER1_DISPLACEMENT);
+    let expected = grid[0] + 5e-5 * (grid[1] - grid[0]);
+    assert!(
+        (corner - expected).abs() <= 1e-15 * grid[1].abs(),
+        "{corner} vs {expected}"
+    );
+    tiny.do_step(tiny.time(), 1e-4 - 5e-9).unwrap();
+    assert_eq!(real(&mut tiny, vr::CORNER1_DISPLACEMENT), grid[1]);
+}
+
+/// A stop time off the grid (fmpy's `-s 0.99995`): the last step ends on it, the grid may run one
+/// internal step beyond it, and no step may end after it.
+#[test]
+fn a_stop_time_off_the_grid_is_reached() {
+    let (mut inst, _) = small();
+    inst.setup_experiment(0.0, Some(0.00995)).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    for _ in 0..9 {
+        inst.do_step(inst.time(), 1e-3).unwrap();
+    }
+    inst.do_step(inst.time(), 0.00995 - 0.009).unwrap();
+    assert!((inst.time() - 0.00995).abs() < 1e-15);
+    let err = inst.do_step(inst.time(), 1e-5).unwrap_err();
+    assert!(err.message.contains("stopTime"), "{}", err.message);
+    let state = inst.get_state().unwrap();
+    inst.set_state(&state).unwrap();
+}
+
+/// The Rayleigh damping parameters reach the scheme: the FMU's run equals the library's for the
+/// same damped scene, bit for bit, and differs from the undamped one; a negative value is refused
+/// by name.
+#[test]
+fn damping_parameters_reach_the_scheme() {
+    use crate::scene::Scene;
+    use crate::simulation::{input::InputSample, Simulation};
+    let (mut inst, _) = small();
+    let err = inst
+        .set_real(&[vr::DAMPING_MASS_PROPORTIONAL], &[-1.0])
+        .unwrap_err();
+    assert!(
+        err.message.contains("damping.mass_proportional"),
+        "{}",
+        err.message
+    );
+    inst.set_real(
+        &[
+            vr::DAMPING_MASS_PROPORTIONAL,
+            vr::DAMPING_STIFFNESS_PROPORTIONAL,
+            vr::BASE_AMPLITUDE,
+        ],
+        &[6.0, 2e-5, 0.005],
+    )
+    .unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    let mut scene = Scene::default();
+    scene.mesh.nx = 3;
+    scene.mesh.ny = 2;
+    scene.base.amplitude = 0.005;
+    let mut undamped = Simulation::new(&scene, 0.0, 0.0).unwrap();
+    scene.damping.mass_proportional = 6.0;
+    scene.damping.stiffness_proportional = 2e-5;
+    let mut library = Simulation::new(&scene, 0.0, 0.0).unwrap();
+    for _ in 0..50 {
+        inst.do_step(inst.time(), 1e-3).unwrap();
+        for sim in [&mut library, &mut undamped] {
+            let end = sim.step_end(1e-3).unwrap();
+            sim.advance(&end, &InputSample::default(), &mut |_| {})
+                .unwrap();
+        }
+    }
+    let corner = real(&mut inst, vr::CORNER1_DISPLACEMENT);
+    assert_eq!(corner.to_bits(), library.outputs().corner1.to_bits());
+    assert_ne!(corner, undamped.outputs().corner1);
 }
 
 /// fmpy asks for the size, then for the bytes: the state is encoded once.

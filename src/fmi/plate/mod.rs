@@ -153,7 +153,7 @@ fn report_internal_step(log: &mut Logger, step: &InternalStep) {
 /// that was not solved, such as under a pressure of 1e308 Pa).
 fn unsound_outputs(sim: &Simulation) -> Option<String> {
     let (outputs, t) = (sim.outputs(), sim.time());
-    if let Some((name, x)) = first_non_finite(outputs) {
+    if let Some((name, x)) = first_non_finite(outputs, sim.contact()) {
         return Some(format!(
             "the output {name} = {x} at t = {t} s is not finite: the simulation overflowed (a base displacement or load far beyond the plate's scale?)"
         ));
@@ -228,7 +228,7 @@ impl Model for PlateModel {
                 if let Some(message) = unsound_outputs(sim) {
                     return Err(Failure::refused(message));
                 }
-                values::output(sim.outputs(), v)
+                values::output(sim.outputs(), sim.contact(), v)
             }
             Causality::Input => Ok(Value::Real(self.input)),
             _ => values::parameter(&self.parameters, v),
@@ -326,28 +326,29 @@ impl Model for PlateModel {
         };
         let sim = self.running_simulation()?;
         let now = sim.time();
-        let steps = sim
-            .grid()
-            .steps_in(h)
+        let end = sim
+            .step_end(h)
             .map_err(|e| Failure::refused(e.to_string()))?;
         if !(t.is_finite() && (t - now).abs() <= TIME_TOLERANCE * now.abs().max(h)) {
             return Err(Failure::refused(format!(
                 "currentCommunicationPoint = {t} s differs from the FMU time {now} s (where the last step ended)"
             )));
         }
-        let end = sim.grid().time(sim.step_index() + steps);
-        sim.grid()
-            .check_resolves(end)
-            .map_err(|e| Failure::refused(format!("the step to t = {end} s is refused: {e}")))?;
+        let grid = sim.grid();
+        let grid_end = grid.time(end.index);
+        grid.check_resolves(grid_end).map_err(|e| {
+            Failure::refused(format!("the step to t = {grid_end} s is refused: {e}"))
+        })?;
+        let end_time = grid.start + end.elapsed(grid);
         if let Some(stop) = stop_time {
-            if end > stop + TIME_TOLERANCE * stop.abs().max(h) {
+            if end_time > stop + TIME_TOLERANCE * stop.abs().max(h) {
                 return Err(Failure::refused(format!(
-                    "the step to t = {end} s goes beyond stopTime = {stop} s set by fmi2SetupExperiment"
+                    "the step to t = {end_time} s goes beyond stopTime = {stop} s set by fmi2SetupExperiment"
                 )));
             }
         }
         let mut observer = |step: &InternalStep| report_internal_step(log, step);
-        let summary = sim.advance(steps, &sample, &mut observer);
+        let summary = sim.advance(&end, &sample, &mut observer);
         let at = sim.time();
         let summary = summary.map_err(|e| {
             Failure::broken(format!(
@@ -455,8 +456,8 @@ mod tests {
                 "the active-set method did not converge; clarabel solved the step".into(),
             ),
             base_force: 0.0,
-            contact_force: 0.0,
-            impact: false,
+            contact_force: 50.0,
+            impact: true,
             flows: Default::default(),
         };
         let step = InternalStep {

@@ -37,8 +37,9 @@ impl PlateSnapshot {
     /// parameter as fmi2SetXxx would (by name, with its limit), no scene field that is not an FMU
     /// variable, the parameters together once the simulation runs, finite times with a grid that
     /// resolves the internal steps, finite input and derivatives, a simulation exactly in the
-    /// phases that have one, for the same parameters and start time, its time within the stop time,
-    /// and its input history. The simulation's fields themselves (dimensions, finiteness, contact
+    /// phases that have one, for the same parameters and start time, its communication point
+    /// within its grid interval and the stop time (the grid may run one step beyond it), and its
+    /// input history. The simulation's fields themselves (dimensions, finiteness, contact
     /// codes, vertices inside the obstacles) are checked when it is restored.
     pub fn validate(&self, phase: Phase) -> Result<(), Failure> {
         let mut rebuilt = Scene::default();
@@ -106,16 +107,19 @@ impl PlateSnapshot {
             step: self.parameters.solver.time_step,
         };
         let n = state.stepper.step_index;
-        let now = grid.time(n);
-        grid.check_resolves(now)
+        grid.check_resolves(grid.time(n))
             .map_err(|e| refused(format!("step {n} of the simulation: {e}")))?;
+        // The number of constrained vertices is the plate's: checked when the state is restored.
+        state.point.check(&grid, n, usize::MAX).map_err(refused)?;
+        let elapsed = state.point.elapsed(&grid, n);
+        let now = grid.start + elapsed;
         if let Some(stop) = self.stop_time {
             if now > stop + TIME_TOLERANCE * stop.abs().max(grid.step) {
                 return Err(refused(format!(
-                    "its simulation is at t = {now} s (step {n}), beyond stopTime = {stop} s"
+                    "its simulation is at t = {now} s (grid step {n}), beyond stopTime = {stop} s"
                 )));
             }
         }
-        state.input.check(grid.elapsed(n)).map_err(refused)
+        state.input.check(elapsed).map_err(refused)
     }
 }

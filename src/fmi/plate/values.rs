@@ -1,13 +1,15 @@
 //! Variables ↔ the plate's data: parameters are [`Scene`] fields named by their dotted path (the
 //! variable name), read and written through [`Scene::get`] and [`Scene::with`]; outputs are
-//! [`Outputs`] fields; the one input is the external base displacement.
+//! [`Outputs`] fields and, for the contact over the last communication step, [`ContactSummary`]
+//! fields; the one input is the external base displacement.
 
 use crate::element::ElementKind;
 use crate::error::Error;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{vr, Kind, Variable};
+use crate::fmi::variables::{vr, Kind, Variable, VARIABLES};
 use crate::scene::Scene;
+use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{Outputs, BOUND_TOLERANCE};
 
 /// The integer code of `mesh.element` for each element family.
@@ -106,19 +108,44 @@ pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene
     Ok(updated)
 }
 
-/// The value of output `v` (by value reference) in `outputs`.
-pub fn output(outputs: &Outputs, v: &Variable) -> Result<Value, Failure> {
+/// How to read a Real output from the outputs at the communication time and the contact over the
+/// last communication step.
+type RealOutput = fn(&Outputs, &ContactSummary) -> f64;
+
+/// Every Real output, by value reference: the one table behind [`output`] and [`first_non_finite`].
+const REAL_OUTPUTS: [(u32, RealOutput); 14] = [
+    (vr::CORNER1_DISPLACEMENT, |o, _| o.corner1),
+    (vr::CORNER2_DISPLACEMENT, |o, _| o.corner2),
+    (vr::EDGE_MID_DISPLACEMENT, |o, _| o.edge_mid),
+    (vr::ENERGY_KINETIC, |o, _| o.energy_kinetic),
+    (vr::ENERGY_ELASTIC, |o, _| o.energy_elastic),
+    (vr::ENERGY_TOTAL, |o, _| o.energy_total),
+    (vr::CONTACT_FORCE, |o, _| o.contact_force),
+    (vr::BASE_FORCE, |o, _| o.base_force),
+    (vr::ENERGY_BASE_WORK, |o, _| o.base_work),
+    (vr::ENERGY_LOAD_WORK, |o, _| o.load_work),
+    (vr::ENERGY_CONTACT_LOSS, |o, _| o.contact_loss),
+    (vr::ENERGY_DAMPING_LOSS, |o, _| o.damping_loss),
+    (vr::CONTACT_IMPULSE, |_, c| c.impulse),
+    (vr::CONTACT_PEAK_FORCE, |_, c| c.peak_force),
+];
+
+/// The value of output `v` (by value reference) in `outputs` and `contact`. Refused: an impact
+/// count beyond the Integer range (more than 2³¹ − 1 impacts in one communication step).
+pub fn output(outputs: &Outputs, contact: &ContactSummary, v: &Variable) -> Result<Value, Failure> {
+    if let Some((_, read)) = REAL_OUTPUTS.iter().find(|(r, _)| *r == v.vr) {
+        return Ok(Value::Real(read(outputs, contact)));
+    }
     Ok(match v.vr {
-        vr::CORNER1_DISPLACEMENT => Value::Real(outputs.corner1),
-        vr::CORNER2_DISPLACEMENT => Value::Real(outputs.corner2),
-        vr::EDGE_MID_DISPLACEMENT => Value::Real(outputs.edge_mid),
-        vr::ENERGY_KINETIC => Value::Real(outputs.energy_kinetic),
-        vr::ENERGY_ELASTIC => Value::Real(outputs.energy_elastic),
-        vr::ENERGY_TOTAL => Value::Real(outputs.energy_total),
-        vr::CONTACT_FORCE => Value::Real(outputs.contact_force),
         vr::CONTACT_ACTIVE_NODES => Value::Integer(
             i32::try_from(outputs.active_nodes).expect("at most 401² vertices are in contact"),
         ),
+        vr::CONTACT_IMPACTS => Value::Integer(i32::try_from(contact.impacts).map_err(|_| {
+            Failure::refused(format!(
+                "{} = {} exceeds the Integer range of FMI 2.0 (2^31 - 1); take shorter communication steps",
+                v.name, contact.impacts
+            ))
+        })?),
         _ => {
             return Err(Failure::refused(format!(
                 "{} has no output binding (internal error)",
@@ -128,19 +155,18 @@ pub fn output(outputs: &Outputs, v: &Variable) -> Result<Value, Failure> {
     })
 }
 
-/// The first output of `outputs` that is not finite, as (variable name, value).
-pub fn first_non_finite(outputs: &Outputs) -> Option<(&'static str, f64)> {
-    [
-        ("corner1.displacement", outputs.corner1),
-        ("corner2.displacement", outputs.corner2),
-        ("edge_mid.displacement", outputs.edge_mid),
-        ("energy.kinetic", outputs.energy_kinetic),
-        ("energy.elastic", outputs.energy_elastic),
-        ("energy.total", outputs.energy_total),
-        ("contact.force", outputs.contact_force),
-    ]
-    .into_iter()
-    .find(|(_, x)| !x.is_finite())
+/// The first Real output of `outputs` and `contact` that is not finite, as (variable name, value).
+pub fn first_non_finite(
+    outputs: &Outputs,
+    contact: &ContactSummary,
+) -> Option<(&'static str, f64)> {
+    REAL_OUTPUTS.iter().find_map(|&(r, read)| {
+        let x = read(outputs, contact);
+        (!x.is_finite()).then(|| {
+            let name = VARIABLES.iter().find(|v| v.vr == r).map_or("?", |v| v.name);
+            (name, x)
+        })
+    })
 }
 
 /// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
@@ -167,7 +193,7 @@ pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fmi::variables::{by_name, Causality, Start, VARIABLES};
+    use crate::fmi::variables::{by_name, Causality, Start};
 
     /// The description's start values are the scene defaults: the two cannot drift.
     #[test]
@@ -187,40 +213,55 @@ mod tests {
             };
             assert_eq!(parameter(&scene, v).unwrap(), expected, "{}", v.name);
         }
-        assert_eq!(parameters, 19, "docs/fmu.md lists 19 parameters");
+        assert_eq!(parameters, 21, "docs/fmu.md lists 21 parameters");
     }
 
     /// Every output variable has a binding, and the finiteness guard covers every Real output.
     #[test]
     fn every_output_is_bound_and_guarded() {
         let mut outputs = Outputs::default();
+        let mut contact = ContactSummary::default();
         for v in VARIABLES
             .iter()
             .filter(|v| v.causality == Causality::Output)
         {
-            output(&outputs, v).unwrap();
+            output(&outputs, &contact, v).unwrap();
         }
         let real_outputs = VARIABLES
             .iter()
             .filter(|v| v.causality == Causality::Output && v.kind == Kind::Real)
             .count();
-        assert_eq!(first_non_finite(&outputs), None);
+        assert_eq!(first_non_finite(&outputs, &contact), None);
+        contact.impulse = f64::NAN;
+        assert!(matches!(
+            first_non_finite(&outputs, &contact),
+            Some(("contact.impulse", x)) if x.is_nan()
+        ));
         outputs.energy_elastic = f64::INFINITY;
         assert_eq!(
-            first_non_finite(&outputs),
+            first_non_finite(&outputs, &contact),
             Some(("energy.elastic", f64::INFINITY))
         );
-        assert_eq!(real_outputs, 7);
-        for name in [
-            "corner1.displacement",
-            "corner2.displacement",
-            "edge_mid.displacement",
-            "energy.kinetic",
-            "energy.total",
-            "contact.force",
+        assert_eq!(real_outputs, 14);
+        for (name, kind) in [
+            ("corner1.displacement", Kind::Real),
+            ("energy.total", Kind::Real),
+            ("contact.force", Kind::Real),
+            ("base.force", Kind::Real),
+            ("energy.damping_loss", Kind::Real),
+            ("contact.impacts", Kind::Integer),
+            ("contact.peak_force", Kind::Real),
         ] {
-            assert_eq!(by_name(name).unwrap().kind, Kind::Real, "{name}");
+            assert_eq!(by_name(name).unwrap().kind, kind, "{name}");
         }
+        contact.impacts = 1 << 31;
+        let impacts = by_name("contact.impacts").unwrap();
+        let err = output(&outputs, &contact, impacts).unwrap_err();
+        assert!(
+            err.message.contains("contact.impacts = 2147483648"),
+            "{}",
+            err.message
+        );
     }
 
     #[test]

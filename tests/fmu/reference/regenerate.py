@@ -32,7 +32,21 @@ OUTPUTS = [
     "energy.total",
     "contact.active_nodes",
     "contact.force",
+    "base.force",
+    "energy.base_work",
+    "energy.load_work",
+    "energy.contact_loss",
+    "energy.damping_loss",
+    "contact.impacts",
+    "contact.impulse",
+    "contact.peak_force",
 ]
+INTEGERS = ("contact.active_nodes", "contact.impacts")
+# Outputs compared as energies (against the scene's largest |energy.total| or flow) and as forces
+# (against the scene's largest force of the same kind): see tests/fmu/test_reference.py.
+ENERGIES = ["energy.kinetic", "energy.elastic", "energy.total", "energy.base_work", "energy.load_work",
+            "energy.contact_loss", "energy.damping_loss"]
+FORCES = ["contact.force", "base.force", "contact.peak_force", "contact.impulse"]
 
 
 def scenes():
@@ -52,7 +66,7 @@ def write(path, result):
     with open(path, "w") as f:
         f.write(",".join(["time"] + OUTPUTS) + "\n")
         for row in result:
-            f.write(",".join(repr(float(row[name])) if name != "contact.active_nodes" else str(int(row[name]))
+            f.write(",".join(str(int(row[name])) if name in INTEGERS else repr(float(row[name]))
                              for name in ["time"] + OUTPUTS) + "\n")
 
 
@@ -72,6 +86,11 @@ def main():
             print(f"{scene}: {len(base)} rows written")
             continue
         shifted = run(args.fmu, scene, base_shift=1e-15)
+        for name in ENERGIES + FORCES:
+            scale = max(np.max(np.abs(base[name])), 1e-300)
+            print(f"  {name}: moves by {np.max(np.abs(base[name] - shifted[name])) / scale:.1e} of its scale {scale:.4g}")
+        for name in INTEGERS:
+            print(f"  {name}: {np.count_nonzero(base[name] != shifted[name])} rows differ")
         t = base["time"]
         corner = np.abs(base["corner1.displacement"] - shifted["corner1.displacement"])
         energy = np.abs(base["energy.total"] - shifted["energy.total"]) / max(np.max(np.abs(base["energy.total"])), 1e-300)
