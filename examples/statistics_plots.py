@@ -18,7 +18,6 @@ Definitions used throughout (statistics.md repeats them):
 import csv
 import math
 import sys
-from collections import defaultdict
 from pathlib import Path
 
 import matplotlib
