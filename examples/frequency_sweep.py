@@ -193,7 +193,7 @@ CONTINUATION_OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.
                         "energy.contact_loss", "base.force"]
 CONTINUATION_COUNTS = ["contact.impacts", "contact.active_nodes"]
 CONTINUATION_COLUMNS = ["config", "params", "direction", "base.frequency", "periods",
-                        "rms_corner_m", "peak_corner_m", "impacts_per_period",
+                        "rms_corner_m", "rms_corner_spread_m", "peak_corner_m", "impacts_per_period",
                         "dissipated_per_period_J", "energy_change_per_period_J", "mean_energy_J",
                         "mean_abs_base_force_N", "max_active_nodes"]
 
@@ -207,6 +207,8 @@ def continuation_run(fmu_blob, digest, start_values, frequencies, amplitude, set
     seconds of whole periods; over its last round(f·measure) periods it reports (one row):
 
       rms_corner_m, peak_corner_m   RMS of u(Lx, 0), and max |u| over both free corners
+      rms_corner_spread_m           its spread: the standard deviation of the RMS over
+                                    RMS_BLOCKS blocks of whole periods of the window, / √RMS_BLOCKS
       impacts_per_period            Σ contact.impacts / periods
       dissipated_per_period_J       change of energy.contact_loss / periods
       energy_change_per_period_J    change of energy.total / periods (≈ 0 once settled)
@@ -264,25 +266,35 @@ def continuation_run(fmu_blob, digest, start_values, frequencies, amplitude, set
                         record[k + 1 - first] = fmu.getReal(out_vrs)
                         counts[k + 1 - first] = fmu.getInteger(count_vrs)
                 schedule.advance(steps)
-                rows.append(dwell_summary(direction, f, periods, record, counts))
+                rows.append(dwell_summary(direction, f, periods, record, counts, f * h))
         fmu.terminate()
     finally:
         fmu.freeInstance()
     return rows, time.perf_counter() - t0
 
 
-def dwell_summary(direction, frequency, periods, record, counts):
+# Blocks of whole periods over which the spread of a dwell's RMS corner is estimated.
+RMS_BLOCKS = 4
+
+
+def dwell_summary(direction, frequency, periods, record, counts, periods_per_step):
     """The row of one dwell from its measured window: `record` and `counts` hold
     CONTINUATION_OUTPUTS and CONTINUATION_COUNTS at the window's start and after each of its
-    steps."""
+    steps, `periods_per_step` = f·h."""
     energy, loss = record[:, 2], record[:, 3]
     corner1, corner2, _, _, force = record[1:].T
     impacts, active = counts[1:].T
+    # Block k holds periods [round(kP/B), round((k+1)P/B)), to the nearest step.
+    edges = [min(len(corner1), round(round(k * periods / RMS_BLOCKS) / periods_per_step))
+             for k in range(RMS_BLOCKS + 1)]
+    blocks = [np.sqrt(np.mean(corner1[a:b] ** 2)) for a, b in zip(edges, edges[1:]) if b > a]
+    spread = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
     return {
         "direction": direction,
         "base.frequency": frequency,
         "periods": periods,
         "rms_corner_m": float(np.sqrt(np.mean(corner1 ** 2))),
+        "rms_corner_spread_m": spread,
         "peak_corner_m": float(np.max(np.maximum(np.abs(corner1), np.abs(corner2)))),
         "impacts_per_period": float(impacts.sum()) / periods,
         "dissipated_per_period_J": float(loss[-1] - loss[0]) / periods,
@@ -462,17 +474,22 @@ def write_csv(rows, path, param_names, columns=COLUMNS):
 
 
 # Up and down branches differ at a frequency when their RMS corners differ by more than this
-# fraction of their mean, or when one branch impacts and the other does not. A 1 s window of the
-# chaotic impacting response scatters by 0.1-0.5 % in RMS (docs/accuracy/statistics.md), and what
-# is left of the previous dwell after the settling time decays like exp(-alpha*settle/2) of the
-# jump, 0.7 % of it with alpha for 1 % in the first mode and 1.5 s: 3 % leaves a margin to both.
+# fraction of their mean and by more than BRANCH_SIGMAS of the spread of their difference, or when
+# one branch impacts and the other does not. What is left of the previous dwell after the settling
+# time decays like exp(-alpha*settle/2) of the jump, 0.7 % of it with alpha for 1 % in the first
+# mode and 1.5 s: 3 % leaves a margin to it. A chaotic impacting response scatters from window to
+# window; its spread (rms_corner_spread_m) measures by how much, and 3σ of the difference keeps a
+# chance difference from being called a second branch (0.3 % per frequency if Gaussian).
 BRANCH_TOLERANCE = 0.03
+BRANCH_SIGMAS = 3.0
 
 
 def branches_differ(up, down):
     """Whether the up and down rows of one frequency show different responses."""
     mean = 0.5 * (up["rms_corner_m"] + down["rms_corner_m"])
-    return (abs(up["rms_corner_m"] - down["rms_corner_m"]) > BRANCH_TOLERANCE * mean
+    sigma = math.hypot(up["rms_corner_spread_m"], down["rms_corner_spread_m"])
+    gap = abs(up["rms_corner_m"] - down["rms_corner_m"])
+    return (gap > max(BRANCH_TOLERANCE * mean, BRANCH_SIGMAS * sigma)
             or (up["impacts_per_period"] > 0) != (down["impacts_per_period"] > 0))
 
 
@@ -529,7 +546,8 @@ def plot_continuation(rows, modes_by_params, path, title):
     axes[0].set_yscale("log")
     axes[0].legend(fontsize=7, loc="upper right")
     axes[0].set_title(title + "\nshaded: the two branches differ (RMS by more than "
-                      f"{BRANCH_TOLERANCE:.0%}, or only one impacts)", fontsize=9)
+                      f"{BRANCH_TOLERANCE:.0%} and {BRANCH_SIGMAS:g}σ, or only one impacts)",
+                      fontsize=9)
     axes[-1].set_xlabel("base frequency (Hz)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)

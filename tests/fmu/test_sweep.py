@@ -95,6 +95,22 @@ def test_base_schedule_is_continuous_and_switches_at_crests():
         schedule.advance(steps)
 
 
+def test_branches_differ_only_beyond_tolerance_and_spread():
+    """The hysteresis finder: a gap in RMS counts only beyond both 3 % of the mean and 3σ of the
+    difference, or when one branch impacts and the other does not. Rows are built by hand, so the
+    thresholds are tested exactly: 5 % apart with σ = 1 % each (3σ of the difference = 4.2 %)
+    differs; 5 % apart with σ = 2 % each (8.5 %) is chaotic scatter; 2.9 % apart with no spread is
+    within the 3 % tolerance; equal RMS with impacts on one branch only differs."""
+    def row(rms, spread, impacts=1.0):
+        return {"rms_corner_m": rms, "rms_corner_spread_m": spread, "impacts_per_period": impacts}
+
+    differ = frequency_sweep.branches_differ
+    assert differ(row(1.025, 0.01), row(0.975, 0.01))
+    assert not differ(row(1.025, 0.02), row(0.975, 0.02))
+    assert not differ(row(1.0145, 0.0), row(0.9855, 0.0))
+    assert differ(row(1.0, 0.0, impacts=0.0), row(1.0, 0.0))
+
+
 def test_continuation_reaches_the_steady_state_of_runs_from_rest(fmu_path):
     """Without obstacles the damped plate is linear and has one steady state per frequency, so
     the continuation sweep, up and down, must find the same peak as runs from rest with the
