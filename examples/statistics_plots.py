@@ -346,17 +346,25 @@ def write_reading(study, w, forced):
     rms_found, rms_tried = settling_points(study, forced, ["rms_corner_m"])
     rms_slope = fit_slope([(wm, r["dt"]) for wm, r in rms_found])
     imp_found, imp_tried = settling_points(study, forced, ["impacts_per_period"])
-    # Settling "at ω_max·Δt of order one": a fitted exponent near −1 and no case settled beyond
-    # ω_max·Δt = 30 (the paper's Δt is ω_max·Δt = 22 on the coarsest mesh, 761 on its own).
+    # Settling "at ω_max·Δt of order one": a fitted exponent near −1 and most cases settled by
+    # ω_max·Δt = 10 (the paper's Δt is ω_max·Δt = 22 on the coarsest mesh, 761 on its own).
     unresolved = [r for _, r in found if r["omega_max_dt"] > 30]
-    holds = bool(found) and -1.5 <= slope <= -0.5 and not unresolved
-    headline = ("statistics settle only once Δt resolves ω_max" if holds else
+    by_ten = sum(x <= 10 for x in wdt)
+    at_paper = sum(r["mesh"] == paper and r["dt"] >= 1e-4 for _, r in found)
+    holds = (bool(found) and -1.5 <= slope <= -0.5 and by_ten >= 0.75 * len(found)
+             and at_paper == 0)
+    headline = ("the time averages settle once Δt resolves ω_max" if holds else
                 "settling does not follow ω_max·Δt alone")
-    verdict = ("The hypothesis holds for these time averages: where they settle, they do so at "
-               "ω_max·Δt of order one to ten, not at the paper's Δt, and the Δt needed falls with "
-               "ω_max of the mesh. " if holds else
-               f"The data do not support the hypothesis as stated: {len(unresolved)} cases settle "
-               f"already at ω_max·Δt > 30 and the fitted exponent is {slope:.2f}. ")
+    exceptions = "; ".join(f"{md_name(r['quantity'])} of {r['scene']} on {mesh_name(r['mesh'])} "
+                           f"from ω_max·Δt = {r['omega_max_dt']:.3g}" for r in unresolved)
+    verdict = ("The hypothesis holds for most of these time averages: " if holds else
+               "The data do not support the hypothesis as stated: ") + (
+        f"{by_ten} of the {len(found)} settled cases settle at ω_max·Δt ≤ 10, {at_paper} at "
+        f"the paper's Δt on its mesh (ω_max·Δt = {omega[paper] * 1e-4:.0f}), and the fitted "
+        f"exponent is {slope:.2f}. "
+    ) + (f"The exceptions settle beyond ω_max·Δt = 30: {exceptions}. Where a mesh's smallest "
+         "run is itself above ω_max·Δt = 1, its settling is judged against an unresolved run. "
+         if unresolved else "")
     w(f"**Δt: {headline}.** On the paper's mesh (Argyris 10 × 7, "
       f"ω_max = {omega[paper]:.3g} rad/s) the paper's Δt = 1e-4 s is ω_max·Δt = "
       f"{omega[paper] * 1e-4:.0f}. Going from there to {ref[SETTLING_Q[0]]['dt']:g} s "
@@ -366,8 +374,7 @@ def write_reading(study, w, forced):
       f"The time averages ({', '.join(md_name(q) for q in AVERAGES)}) settle — every "
       f"smaller Δt agrees with the smallest within 2σ — on {len(found)} of the {tried} "
       f"(scene, quantity, mesh) cases, at ω_max·Δt between {min(wdt):.2g} and {max(wdt):.3g} "
-      f"(median {median(wdt):.2g}); {sum(x <= 10 for x in wdt)} of them at ω_max·Δt ≤ 10, "
-      f"{len(unresolved)} at ω_max·Δt > 30. Across meshes whose ω_max spans "
+      f"(median {median(wdt):.2g}). Across meshes whose ω_max spans "
       f"{min(omega.values()):.2g}–{max(omega.values()):.2g} rad/s, the Δt at which they settle "
       f"falls like ω_max^{slope:.2f} (pooled least-squares fit; −1 is settling at a fixed ω_max·Δt, "
       "as the hypothesis says, 0 at a fixed Δt whatever the mesh). " + verdict
@@ -457,10 +464,11 @@ def write_reading(study, w, forced):
           f"{number(shown('first_impact_s', e_ref['first_impact_s']['value']), 4)} ms best "
           f"resolved, {number(shown('first_impact_s', e_paper['first_impact_s']['value']), 4)} ms "
           f"at the paper's Δt ({study.error(e_paper['first_impact_s'])[0]:.1%}). At 0.1 s the "
-          "perturbed runs still agree closely (to "
-          f"{e_ref['energy_0.1s_J']['spread'] / e_ref['energy_0.1s_J']['value']:.1e} relative on "
-          "the best-resolved setting), so the energy there is a deterministic quantity, "
-          f"but it converges slowly: {number(e_paper['energy_0.1s_J']['value'])} J at the paper's "
+          "perturbed runs still agree to "
+          f"{e_ref['energy_0.1s_J']['spread'] / e_ref['energy_0.1s_J']['value']:.1e} relative (on "
+          "the best-resolved setting), far below the differences between settings, but it "
+          f"the energy at 0.1 s settles on no mesh: "
+          f"{number(e_paper['energy_0.1s_J']['value'])} J at the paper's "
           f"settings, {number(e_ref['energy_0.1s_J']['value'])} J best resolved, and "
           f"{listing(study, 'energy', 'energy_0.1s_J', arg)} J on the Argyris meshes at their "
           "smallest Δt. By 0.3 s the response is chaotic: the perturbed runs scatter by "
@@ -560,9 +568,18 @@ def write_markdown(study, out):
       "the rest for the perturbed replicas. Wall time of a run = `Stepper::new` "
       "(assembly, eigenbasis, initial state) + the step loop.")
     if meta.get("plan") == "reduced":
+        # Each extra run halves the smallest Δt of its mesh: about twice the steps, and the wall
+        # time, of the mesh's smallest run (times the replicas for `energy`).
+        smallest = [r for r in study.rows if r["quantity"] in (FORCED_Q[0], ENERGY_Q[0])
+                    and ((r["mesh"] == ("argyris", 10, 7) and r["dt"] == 2e-7)
+                         or (r["mesh"] == ("fvs", 14, 10) and r["dt"] == 1e-6))]
+        extra = sum(2 * r["wall_s"] * (int(meta["replicas"]) if r["scene"] == "energy" else 1)
+                    for r in smallest)
         w("- This is the *reduced* grid (`-- --reduced`): the full one (`cargo run --release "
-          "--example statistics`, about twice as long) also runs Argyris 10 × 7 at Δt = 1e-7 s "
-          "and FVS 14 × 10 at 5e-7 s; everything else is the same.")
+          "--example statistics`) also runs Argyris 10 × 7 at Δt = 1e-7 s and FVS 14 × 10 at "
+          "5e-7 s, everything else the same; from the wall times of the smallest runs here, that "
+          f"adds about {extra / 60:.0f} min on this machine (about "
+          f"{(float(meta['total_s']) + extra) / 60:.0f} min in all).")
     w(f"- Forced scenes: the base moves by c·sin(2πft) between obstacles at ±10 mm; the damped "
       f"variants have Rayleigh α = 2ζ₁ω₁ = {float(meta['alpha']):.4f} 1/s (ζ₁ = "
       f"{float(meta['zeta1']):.0%}, β = 0, ω₁ = {float(meta['omega1_reference']):.3f} rad/s of the "
