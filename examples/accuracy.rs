@@ -21,13 +21,15 @@
 //! order in Δt of the contact-free case is within 0.2 of 2 and the whole pipeline (CSV, plots,
 //! README) completes.
 
+mod common;
+
+use common::{element_name, exit_code, StudyDir};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::{QpChoice, Scene};
 use plate_impact::scheme::{StepPath, Stepper};
 use plate_impact::system::PlateSystem;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -75,13 +77,6 @@ fn build_scene(label: &str, element: ElementKind, mesh: (usize, usize), dt: f64)
     (s.mesh.nx, s.mesh.ny) = mesh;
     s.solver.time_step = dt;
     s
-}
-
-fn element_name(e: ElementKind) -> &'static str {
-    match e {
-        ElementKind::Argyris => "argyris",
-        ElementKind::Fvs => "fvs",
-    }
 }
 
 fn strategy_name(qp: QpChoice) -> &'static str {
@@ -323,27 +318,13 @@ fn slope(points: &[(f64, f64)]) -> f64 {
 }
 
 fn main() -> ExitCode {
-    match study() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            ExitCode::FAILURE
-        }
-    }
+    exit_code(study())
 }
 
 fn study() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let quick = args.iter().any(|a| a == "--quick");
-    let out_arg = args.iter().position(|a| a == "--out");
-    let out_dir: PathBuf = match out_arg {
-        Some(i) => args.get(i + 1).ok_or("--out needs a directory")?.into(),
-        None if quick => {
-            std::env::temp_dir().join(format!("accuracy-quick-{}", std::process::id()))
-        }
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/accuracy"),
-    };
-    std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    let dir = StudyDir::from_args(&args, "accuracy", "accuracy")?;
+    let quick = dir.quick;
     let plan = if quick { quick_plan() } else { full_plan() };
     let started = Instant::now();
 
@@ -377,7 +358,7 @@ fn study() -> Result<(), String> {
             }
         }
     }
-    write(&out_dir.join("frequencies.csv"), &freq_csv)?;
+    dir.write("frequencies.csv", &freq_csv)?;
 
     let all = cases(&plan);
     let mut runs: Vec<Run> = Vec::with_capacity(all.len());
@@ -492,7 +473,7 @@ fn study() -> Result<(), String> {
         )
         .expect("write to string");
     }
-    write(&out_dir.join("runs.csv"), &csv)?;
+    dir.write("runs.csv", &csv)?;
 
     // Reference trajectories, for the plot of what is being compared.
     let mut traces = String::from("t");
@@ -507,7 +488,7 @@ fn study() -> Result<(), String> {
         }
         traces.push('\n');
     }
-    write(&out_dir.join("traces.csv"), &traces)?;
+    dir.write("traces.csv", &traces)?;
 
     // Self-convergence of the reference: its time error (against twice its Δt), its space error
     // (against the finer check mesh at the same Δt), and the other element's finest mesh.
@@ -563,7 +544,7 @@ fn study() -> Result<(), String> {
         )
         .expect("write to string");
     }
-    write(&out_dir.join("reference_check.csv"), &check)?;
+    dir.write("reference_check.csv", &check)?;
 
     // The paper's Table 1: 140 elements, forced scene at 10 Hz, 1 s.
     let mut table1 = String::from("element,nx,ny,dt,strategy,steps,qp_steps,wall_s\n");
@@ -607,7 +588,7 @@ fn study() -> Result<(), String> {
             .expect("write to string");
         }
     }
-    write(&out_dir.join("table1.csv"), &table1)?;
+    dir.write("table1.csv", &table1)?;
     let total_s = started.elapsed().as_secs_f64();
     eprintln!("runs done in {total_s:.1} s; plotting");
 
@@ -669,9 +650,9 @@ fn study() -> Result<(), String> {
     ] {
         writeln!(meta, "{k},\"{v}\"").expect("write to string");
     }
-    write(&out_dir.join("meta.csv"), &meta)?;
+    dir.write("meta.csv", &meta)?;
 
-    plot(&out_dir, quick)?;
+    dir.plot("accuracy_plots.py")?;
 
     // Contact-free orders in Δt (time error alone, paper mesh, over every Δt at least twice the
     // reference's). The smooth control case must be second order (docs/scheme.md §6); the release
@@ -716,7 +697,7 @@ fn study() -> Result<(), String> {
             }
         }
     }
-    for file in [
+    failures.extend(dir.missing(&[
         "runs.csv",
         "frequencies.csv",
         "table1.csv",
@@ -728,57 +709,11 @@ fn study() -> Result<(), String> {
         "convergence_dt.png",
         "convergence_h.png",
         "traces.png",
-    ] {
-        let size = std::fs::metadata(out_dir.join(file)).map_or(0, |m| m.len());
-        if size == 0 {
-            failures.push(format!("{file} missing or empty"));
-        }
-    }
+    ]));
     eprintln!(
         "study done in {:.1} s; output in {}",
         started.elapsed().as_secs_f64(),
-        out_dir.display()
+        dir.path.display()
     );
-    if !failures.is_empty() {
-        return Err(failures.join("; "));
-    }
-    if quick && out_arg.is_none() {
-        // A passing check leaves nothing behind; a failing one keeps its directory to inspect.
-        std::fs::remove_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
-    }
-    Ok(())
-}
-
-fn write(path: &Path, text: &str) -> Result<(), String> {
-    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Runs `examples/accuracy_plots.py` with the Python of `scripts/python-env`.
-fn plot(out_dir: &Path, quick: bool) -> Result<(), String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let env = std::process::Command::new(root.join("scripts/python-env"))
-        .output()
-        .map_err(|e| format!("scripts/python-env: {e}"))?;
-    if !env.status.success() {
-        return Err(format!(
-            "scripts/python-env failed: {}",
-            String::from_utf8_lossy(&env.stderr)
-        ));
-    }
-    let python = String::from_utf8_lossy(&env.stdout).trim().to_string();
-    let mut command = std::process::Command::new(python);
-    command
-        .arg(root.join("examples/accuracy_plots.py"))
-        .arg(out_dir);
-    if quick {
-        command.arg("--quick");
-    }
-    let status = command
-        .status()
-        .map_err(|e| format!("accuracy_plots.py: {e}"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("accuracy_plots.py exited with {status}"))
-    }
+    dir.finish(failures)
 }

@@ -1,31 +1,40 @@
-"""Frequency sweep of the packaged PlateImpact FMU, one Dask task per run.
+"""Frequency sweeps of the packaged PlateImpact FMU, as Dask tasks.
 
-Sweeps `base.frequency` (and optionally other FMU parameters) for the plate between its obstacles
-and for the same plate without them, and writes a CSV and a plot of the peak free-corner amplitude
-against frequency with the library's natural frequencies marked.
+Two modes. By default every frequency is a run of its own from rest (one Dask task per run):
+sweeps `base.frequency` (and optionally other FMU parameters) for the plate between its obstacles
+and for the same plate without them. With `--continuation` one FMU instance per configuration
+sweeps the frequencies up and then back down, carrying the plate's state from each frequency to
+the next, so that coexisting responses (jumps, hysteresis) show as two branches. Both write a CSV
+and a plot with the library's natural frequencies marked.
 
     python examples/frequency_sweep.py [--frequencies 5:120:1] [--workers N | --scheduler ADDR | --serial]
                                        [--set name=value ...] [--param name=v1,v2,... ...]
-                                       [--stop-time 1.0] [--out out/sweep]
+                                       [--zeta1 Z] [--stop-time 1.0] [--out out/sweep]
+    python examples/frequency_sweep.py --continuation [--frequencies 30:90:1] [--zeta1 0.01]
+                                       [--settle 1.5] [--measure 1.0] [...]
 
-Per run (columns of sweep.csv; times are communication points, one per internal step Δt):
+Runs from rest (columns of sweep.csv; times are communication points, one per internal step Δt):
   peak_corner_m     max |u| over both free corners (Lx, 0), (Lx, Ly) in the analysis window, the
                     last N whole forcing periods inside the last half of the horizon
                     (N = floor(f·T/2)); u is the absolute displacement the obstacles bound.
-  impacts           rising edges of contact.active_nodes > 0 over the whole run
+  impacts           internal steps whose contact set went from empty to non-empty (the FMU's
+                    contact.impacts), over the whole run
   impacts_window    the same, inside the analysis window
   dissipated_per_period_J
-                    energy the obstacles take out per forcing period in the window (see
-                    `dissipation` below): with forcing, energy.total is not conserved by itself,
-                    the base works on the plate, so the loss is the base work minus the change of
-                    energy.total, counted over the contact steps only (e = 0; see the README).
+                    energy the obstacles take out per forcing period in the window: the change
+                    of the FMU's energy.contact_loss over the window, / N.
   energy_change_per_period_J
                     (E(end of window) − E(start))/N: ≈ 0 in a periodic steady state; a plate
                     still growing (the undamped resonance) or still in transient shows here.
   trajectory_sha256 digest of every recorded output: equal digests mean bit-identical runs.
 
+Continuation (columns of continuation.csv): see `continuation_run`. The base is driven through the
+input `base.displacement` with a sine whose phase is continuous across frequency changes; see
+`BaseSchedule` for why, and for where the frequency changes.
+
 Runs are independent FMU instances and the solver is deterministic, so results do not depend on
-where or in which order tasks run; rows are sorted by configuration, swept parameters, frequency.
+where or in which order tasks run; rows are sorted by configuration, swept parameters, frequency
+(and direction).
 """
 
 import argparse
@@ -33,6 +42,7 @@ import dataclasses
 import hashlib
 import io
 import itertools
+import math
 import os
 import pathlib
 import shutil
@@ -46,7 +56,8 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 DEFAULT_FMU = ROOT / "target" / "fmu" / "PlateImpact.fmu"
-OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total", "contact.active_nodes"]
+OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.contact_loss",
+           "contact.active_nodes", "contact.impacts"]
 CONFIGS = {  # name -> start values that define it
     "obstacles": {"obstacle.lower_enabled": True, "obstacle.upper_enabled": True},
     "free": {"obstacle.lower_enabled": False, "obstacle.upper_enabled": False},
@@ -82,37 +93,6 @@ def _fmu_dir(fmu_blob, digest):
     return str(target)
 
 
-def _rising_edges(flag):
-    flag = np.asarray(flag, dtype=bool)
-    return int(np.count_nonzero(flag[1:] & ~flag[:-1]) + (1 if flag.size and flag[0] else 0))
-
-
-def dissipation(energy, active):
-    """Energy removed by the obstacles over a record sampled at every internal step.
-
-    With the base moving, the change of energy.total over step k is ΔE_k = W_k − D_k: the work of
-    the clamp on the plate minus what the contact removes. On a step with no vertex in contact at
-    its start or end D_k = 0, so ΔE_k is the base work exactly (the β = ½ scheme conserves the
-    discrete energy otherwise). On contact steps W_k is not observable from the outputs; it is a
-    smooth function of time, so it is taken as the linear interpolation of the base work of the
-    contact-free steps on either side of each run of contact steps. Returns Σ (Ŵ_k − ΔE_k) over the
-    contact steps: exactly 0 without contact, an estimate of the impact losses otherwise (the
-    contacts never add energy, for any solver.restitution, so D_k ≥ 0).
-    """
-    energy = np.asarray(energy, dtype=float)
-    active = np.asarray(active) > 0
-    d_energy = np.diff(energy)
-    contact = active[1:] | active[:-1]
-    if not contact.any():
-        return 0.0
-    steps = np.arange(d_energy.size)
-    free = ~contact
-    if not free.any():
-        return float("nan")
-    work = np.interp(steps[contact], steps[free], d_energy[free])
-    return float(np.sum(work - d_energy[contact]))
-
-
 def run_one(fmu_blob, digest, start_values, stop_time):
     """Simulates one parameter set, communicating at every internal step, and returns its summary
     (a dict of plain Python values) and the wall time."""
@@ -140,12 +120,15 @@ def run_one(fmu_blob, digest, start_values, stop_time):
     digest_out = hashlib.sha256()
     for name in ["time"] + OUTPUTS:
         digest_out.update(np.ascontiguousarray(result[name]).tobytes())
+    impacts = np.asarray(result["contact.impacts"])
+    loss = result["energy.contact_loss"]
     summary = {
         "peak_corner_m": float(corners[window].max()),
-        "impacts": _rising_edges(active > 0),
-        "impacts_window": _rising_edges(active[window] > 0),
+        "impacts": int(impacts.sum()),
+        # The impacts of the step that ends at the window's first point happened before it.
+        "impacts_window": int(impacts[first + 1:].sum()),
         "periods": periods,
-        "dissipated_per_period_J": (dissipation(energy[window], active[window]) / periods
+        "dissipated_per_period_J": (float(loss[n_last] - loss[first]) / periods
                                     if periods else float("nan")),
         "energy_change_per_period_J": (float(energy[n_last] - energy[first]) / periods
                                        if periods else float("nan")),
@@ -153,6 +136,173 @@ def run_one(fmu_blob, digest, start_values, stop_time):
         "trajectory_sha256": digest_out.hexdigest(),
     }
     return summary, wall
+
+
+# ----------------------------------------------------------------------------------------------
+# Continuation: one instance sweeps up and down, carrying the plate's state (executed on a worker)
+
+class BaseSchedule:
+    """The base motion z(t) = c·sin φ(t) of a continuation sweep: frequency f_j during dwell j,
+    phase continuous, every dwell ending at a crest of the sine.
+
+    Why the input and not the FMU state. `base.frequency` is a fixed parameter, so the built-in
+    sine cannot change frequency within an instance; and an FMU state saved at one frequency is
+    refused by an instance of another (the state carries the fixed parameters, and they must
+    match). Even if it were accepted, the built-in sine c·sin(2πf t) of the new frequency would
+    jump at the switch time t_s, from c·sin(2πf_old t_s) to c·sin(2πf_new t_s): an impulsive base
+    motion that is no part of a sweep. So the built-in amplitude is 0 and this schedule drives
+    `base.displacement`, sending ż and z̈ with fmi2SetRealInputDerivatives (the FMU then applies
+    z to O((ωh)³·c) per communication step h, 1e-5·c at 60 Hz and h = 1e-4 s).
+
+    Where the frequency changes. z is continuous at every switch because φ is. The base velocity
+    c·2πf·cos φ would jump by c·2π·Δf·cos φ; switching at a crest (cos φ = 0, the base at rest)
+    keeps it continuous up to the communication grid: the switch is the communication time
+    nearest a crest, where |cos φ| ≤ πfh. The sweep starts at a crest too, z(0) = c with the plate at rest, so the base
+    starts at rest, as the plate (the built-in sine starts with velocity 2πfc instead).
+    """
+
+    def __init__(self, amplitude, h):
+        self.amplitude, self.h = amplitude, h  # c (m) and the communication step (s)
+        self.step = 0  # communication point where the current dwell starts
+        self.phase = math.pi / 2  # φ there
+        self.omega = 0.0
+
+    def tune(self, frequency):
+        """Sets the frequency (Hz) of the dwell that starts at the current step."""
+        self.omega = 2 * math.pi * frequency
+
+    def dwell_steps(self, periods):
+        """Communication steps from here to the crest nearest to `periods` periods on."""
+        target = self.phase + 2 * math.pi * periods
+        crest = math.pi / 2 + math.pi * round((target - math.pi / 2) / math.pi)
+        return max(1, round((crest - self.phase) / (self.omega * self.h)))
+
+    def at(self, k):
+        """(z, ż, z̈) at communication step k of the current dwell."""
+        phi = self.phase + self.omega * k * self.h
+        c, w = self.amplitude, self.omega
+        return c * math.sin(phi), c * w * math.cos(phi), -c * w * w * math.sin(phi)
+
+    def advance(self, steps):
+        """Ends the current dwell after `steps` communication steps."""
+        self.phase += self.omega * steps * self.h
+        self.step += steps
+
+
+CONTINUATION_OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total",
+                        "energy.contact_loss", "base.force"]
+CONTINUATION_COUNTS = ["contact.impacts", "contact.active_nodes"]
+CONTINUATION_COLUMNS = ["config", "params", "direction", "base.frequency", "periods",
+                        "rms_corner_m", "rms_corner_spread_m", "peak_corner_m", "impacts_per_period",
+                        "dissipated_per_period_J", "energy_change_per_period_J", "mean_energy_J",
+                        "mean_abs_base_force_N", "max_active_nodes"]
+
+
+def continuation_run(fmu_blob, digest, start_values, frequencies, amplitude, settle, measure,
+                     step=None):
+    """One FMU instance, communicating every `step` seconds (default: every internal step Δt; a
+    multiple of Δt keeps the communication points on the grid), dwells at each frequency of
+    `frequencies` in turn (Hz, ascending), then at each again in descending order, with the base
+    of `BaseSchedule` (amplitude c = `amplitude`, m). A dwell lasts about `settle` + `measure`
+    seconds of whole periods; over its last round(f·measure) periods it reports (one row):
+
+      rms_corner_m, peak_corner_m   RMS of u(Lx, 0), and max |u| over both free corners
+      rms_corner_spread_m           its spread: the standard deviation of the RMS over
+                                    RMS_BLOCKS blocks of whole periods of the window, / √RMS_BLOCKS
+      impacts_per_period            Σ contact.impacts / periods
+      dissipated_per_period_J       change of energy.contact_loss / periods
+      energy_change_per_period_J    change of energy.total / periods (≈ 0 once settled)
+      mean_energy_J, mean_abs_base_force_N, max_active_nodes
+
+    Returns (rows, wall time)."""
+    from fmpy import read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    from fmpy.simulation import apply_start_values
+
+    directory = _fmu_dir(fmu_blob, digest)
+    md = read_model_description(directory)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    h = step or float(start_values.get("solver.time_step", 1e-4))
+    values = dict(start_values, **{"base.amplitude": 0.0})
+    schedule = BaseSchedule(amplitude, h)
+    t0 = time.perf_counter()
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=directory,
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="continuation")
+    rows = []
+    try:
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0)
+        unknown = apply_start_values(fmu, md, values)
+        if unknown:
+            raise ValueError(f"not variables of the FMU: {sorted(unknown)}")
+        fmu.enterInitializationMode()
+        z_vr = [vr["base.displacement"]]
+        out_vrs = [vr[n] for n in CONTINUATION_OUTPUTS]
+        count_vrs = [vr[n] for n in CONTINUATION_COUNTS]
+
+        def send(k):
+            z, dz, ddz = schedule.at(k)
+            fmu.setReal(z_vr, [z])
+            fmu.setRealInputDerivatives(z_vr * 2, [1, 2], [dz, ddz])
+
+        schedule.tune(frequencies[0])
+        send(0)  # the initial base position, z(0) = c, with the plate at rest
+        fmu.exitInitializationMode()
+        for direction, order in (("up", frequencies), ("down", frequencies[::-1])):
+            for f in order:
+                periods = max(1, round(f * measure))
+                schedule.tune(f)
+                steps = schedule.dwell_steps(round(f * settle) + periods)
+                # Samples at the window's start and at each of its steps (the counts belong to
+                # the step that ends at the sample).
+                first = max(1, steps - round(periods / (f * h)))
+                record = np.empty((steps - first + 1, len(out_vrs)))
+                counts = np.empty((steps - first + 1, len(count_vrs)), dtype=np.int64)
+                for k in range(steps):
+                    send(k)
+                    fmu.doStep(currentCommunicationPoint=(schedule.step + k) * h,
+                               communicationStepSize=h)
+                    if k + 1 >= first:
+                        record[k + 1 - first] = fmu.getReal(out_vrs)
+                        counts[k + 1 - first] = fmu.getInteger(count_vrs)
+                schedule.advance(steps)
+                rows.append(dwell_summary(direction, f, periods, record, counts, f * h))
+        fmu.terminate()
+    finally:
+        fmu.freeInstance()
+    return rows, time.perf_counter() - t0
+
+
+# Blocks of whole periods over which the spread of a dwell's RMS corner is estimated.
+RMS_BLOCKS = 4
+
+
+def dwell_summary(direction, frequency, periods, record, counts, periods_per_step):
+    """The row of one dwell from its measured window: `record` and `counts` hold
+    CONTINUATION_OUTPUTS and CONTINUATION_COUNTS at the window's start and after each of its
+    steps, `periods_per_step` = f·h."""
+    energy, loss = record[:, 2], record[:, 3]
+    corner1, corner2, _, _, force = record[1:].T
+    impacts, active = counts[1:].T
+    # Block k holds periods [round(kP/B), round((k+1)P/B)), to the nearest step.
+    edges = [min(len(corner1), round(round(k * periods / RMS_BLOCKS) / periods_per_step))
+             for k in range(RMS_BLOCKS + 1)]
+    blocks = [np.sqrt(np.mean(corner1[a:b] ** 2)) for a, b in zip(edges, edges[1:]) if b > a]
+    spread = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
+    return {
+        "direction": direction,
+        "base.frequency": frequency,
+        "periods": periods,
+        "rms_corner_m": float(np.sqrt(np.mean(corner1 ** 2))),
+        "rms_corner_spread_m": spread,
+        "peak_corner_m": float(np.max(np.maximum(np.abs(corner1), np.abs(corner2)))),
+        "impacts_per_period": float(impacts.sum()) / periods,
+        "dissipated_per_period_J": float(loss[-1] - loss[0]) / periods,
+        "energy_change_per_period_J": float(energy[-1] - energy[0]) / periods,
+        "mean_energy_J": float(np.mean(energy)),
+        "mean_abs_base_force_N": float(np.mean(np.abs(force))),
+        "max_active_nodes": int(active.max()),
+    }
 
 
 # ----------------------------------------------------------------------------------------------
@@ -186,46 +336,83 @@ def start_values_of(run, fixed):
 
 def sweep(fmu_path, frequencies, *, fixed=None, param_grid=None, configs=("obstacles", "free"),
           stop_time=1.0, client=None, progress=True):
-    """Runs the sweep (serially if client is None, else as Dask tasks) and returns the rows,
-    sorted by configuration, swept parameters and frequency, whatever order the runs finish in."""
+    """Runs the sweep from rest (serially if client is None, else as Dask tasks) and returns the
+    rows, sorted by configuration, swept parameters and frequency, whatever order the runs finish
+    in."""
     fixed = dict(fixed or {})
-    param_grid = dict(param_grid or {})
-    fmu_blob = pathlib.Path(fmu_path).read_bytes()
-    digest = hashlib.sha256(fmu_blob).hexdigest()
-    runs = plan(frequencies, configs, param_grid)
-    done = {}
-    started = time.perf_counter()
+    runs = plan(frequencies, configs, dict(param_grid or {}))
 
-    def report(run, summary, wall):
-        done[run] = summary
-        if progress:
-            extra = "".join(f" {k}={v}" for k, v in run.params)
-            print(f"[{len(done):>{len(str(len(runs)))}}/{len(runs)}] {run.config:9s} f={run.frequency:g} Hz"
-                  f"{extra}: peak {1e3 * summary['peak_corner_m']:.3f} mm, {summary['impacts']} impacts"
-                  f" ({wall:.2f} s)", file=sys.stderr, flush=True)
+    def describe(run, summary):
+        return (f"{run.config:9s} f={run.frequency:g} Hz{_params_text(run.params)}: peak "
+                f"{1e3 * summary['peak_corner_m']:.3f} mm, {summary['impacts']} impacts")
 
-    if client is None:
-        for run in runs:
-            report(run, *run_one(fmu_blob, digest, start_values_of(run, fixed), stop_time))
-    else:
-        from distributed import as_completed
-        _ship_this_module(client)
-        blob = client.scatter(fmu_blob, broadcast=True)
-        futures = {}
-        for run in runs:
-            future = client.submit(run_one, blob, digest, start_values_of(run, fixed),
-                                   stop_time, pure=False)
-            futures[future] = run
-        for future in as_completed(futures):
-            report(futures[future], *future.result())
-    if progress:
-        print(f"{len(runs)} runs in {time.perf_counter() - started:.1f} s", file=sys.stderr)
+    done = run_tasks(fmu_path, [(run, run_one, (start_values_of(run, fixed), stop_time))
+                                for run in runs], client, progress and describe)
     rows = []
     for run in runs:
         row = {"config": run.config, "params": run.params, "base.frequency": run.frequency}
         row.update(done[run])
         rows.append(row)
     return rows
+
+
+def continuation(fmu_path, frequencies, *, amplitude, fixed=None, param_grid=None,
+                 configs=("obstacles", "free"), settle=1.5, measure=1.0, step=None, client=None,
+                 progress=True):
+    """Runs one continuation sweep (`continuation_run`: up, then down) per configuration and
+    swept parameter set, serially or as Dask tasks, and returns their rows: by configuration and
+    parameters, then in sweep order (up, ascending; then down, descending)."""
+    fixed = dict(fixed or {})
+    frequencies = sorted(float(f) for f in frequencies)
+    runs = plan([0.0], configs, dict(param_grid or {}))  # one per configuration and parameters
+    tasks = []
+    for run in runs:
+        values = start_values_of(run, fixed)
+        del values["base.frequency"]
+        tasks.append((run, continuation_run,
+                      (values, frequencies, amplitude, settle, measure, step)))
+
+    def describe(run, rows):
+        return f"{run.config}{_params_text(run.params)}: {len(rows)} dwells"
+
+    done = run_tasks(fmu_path, tasks, client, progress and describe)
+    return [dict(row, config=run.config, params=run.params) for run in runs for row in done[run]]
+
+
+def _params_text(params):
+    return "".join(f" {k}={v}" for k, v in params)
+
+
+def run_tasks(fmu_path, tasks, client, describe=None):
+    """Calls function(fmu_blob, digest, *args) for each task (key, function, args), serially when
+    client is None, else as Dask tasks (the FMU scattered to the workers once). Returns
+    {key: result}; each function returns (result, wall time). With `describe`, prints
+    describe(key, result) and the wall time as each task finishes, and the total at the end."""
+    fmu_blob = pathlib.Path(fmu_path).read_bytes()
+    digest = hashlib.sha256(fmu_blob).hexdigest()
+    done = {}
+    started = time.perf_counter()
+
+    def report(key, result, wall):
+        done[key] = result
+        if describe:
+            print(f"[{len(done):>{len(str(len(tasks)))}}/{len(tasks)}] {describe(key, result)} "
+                  f"({wall:.2f} s)", file=sys.stderr, flush=True)
+
+    if client is None:
+        for key, function, args in tasks:
+            report(key, *function(fmu_blob, digest, *args))
+    else:
+        from distributed import as_completed
+        _ship_this_module(client)
+        blob = client.scatter(fmu_blob, broadcast=True)
+        futures = {client.submit(function, blob, digest, *args, pure=False): key
+                   for key, function, args in tasks}
+        for future in as_completed(futures):
+            report(futures[future], *future.result())
+    if describe:
+        print(f"{len(tasks)} tasks in {time.perf_counter() - started:.1f} s", file=sys.stderr)
+    return done
 
 
 def _ship_this_module(client):
@@ -274,15 +461,97 @@ def _json(value):
     return repr(value) if isinstance(value, float) else str(value)
 
 
-def write_csv(rows, path, param_names):
-    header = ["config", *param_names] + COLUMNS[2:]
+def write_csv(rows, path, param_names, columns=COLUMNS):
+    """One line per row: config, the swept parameters, then columns[2:]."""
+    header = ["config", *param_names] + columns[2:]
     with open(path, "w") as f:
         f.write(",".join(header) + "\n")
         for row in rows:
             params = dict(row["params"])
             cells = [row["config"], *[params[n] for n in param_names]]
-            cells += [row[c] for c in COLUMNS[2:]]
+            cells += [row[c] for c in columns[2:]]
             f.write(",".join(repr(c) if isinstance(c, float) else str(c) for c in cells) + "\n")
+
+
+# Up and down branches differ at a frequency when their RMS corners differ by more than this
+# fraction of their mean and by more than BRANCH_SIGMAS of the spread of their difference, or when
+# one branch impacts and the other does not. What is left of the previous dwell after the settling
+# time decays like exp(-alpha*settle/2) of the jump, 0.7 % of it with alpha for 1 % in the first
+# mode and 1.5 s: 3 % leaves a margin to it. A chaotic impacting response scatters from window to
+# window; its spread (rms_corner_spread_m) measures by how much, and 3σ of the difference keeps a
+# chance difference from being called a second branch (0.3 % per frequency if Gaussian).
+BRANCH_TOLERANCE = 0.03
+BRANCH_SIGMAS = 3.0
+
+
+def branches_differ(up, down):
+    """Whether the up and down rows of one frequency show different responses."""
+    mean = 0.5 * (up["rms_corner_m"] + down["rms_corner_m"])
+    sigma = math.hypot(up["rms_corner_spread_m"], down["rms_corner_spread_m"])
+    gap = abs(up["rms_corner_m"] - down["rms_corner_m"])
+    return (gap > max(BRANCH_TOLERANCE * mean, BRANCH_SIGMAS * sigma)
+            or (up["impacts_per_period"] > 0) != (down["impacts_per_period"] > 0))
+
+
+def hysteresis(rows):
+    """Per (config, params): the frequencies at which the up and down branches differ."""
+    found = {}
+    for key in sorted({(r["config"], r["params"]) for r in rows}):
+        sel = [r for r in rows if (r["config"], r["params"]) == key]
+        up = {r["base.frequency"]: r for r in sel if r["direction"] == "up"}
+        down = {r["base.frequency"]: r for r in sel if r["direction"] == "down"}
+        found[key] = [f for f in sorted(up) if f in down and branches_differ(up[f], down[f])]
+    return found
+
+
+def plot_continuation(rows, modes_by_params, path, title):
+    """RMS and peak corner, impacts and dissipation per period against frequency, up and down."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(4, 1, figsize=(9, 11), sharex=True,
+                             gridspec_kw={"height_ratios": [3, 2, 2, 2]})
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    keys = sorted({(r["config"], r["params"]) for r in rows})
+    differ = hysteresis(rows)
+    panels = [("rms_corner_m", 1e3, "RMS corner u(Lx, 0) (mm)"),
+              ("peak_corner_m", 1e3, "peak free-corner |u| (mm)"),
+              ("impacts_per_period", 1.0, "impacts per period"),
+              ("dissipated_per_period_J", 1.0, "removed at the obstacles\nper period (J)")]
+    for i, key in enumerate(keys):
+        color = colors[i % len(colors)]
+        label = ("with obstacles" if key[0] == "obstacles" else "without obstacles") + "".join(
+            f", {k}={v}" for k, v in key[1])
+        for direction, style in (("up", dict(ls="-", marker="^")), ("down", dict(ls="--", marker="v"))):
+            sel = [r for r in rows if (r["config"], r["params"]) == key and r["direction"] == direction]
+            sel.sort(key=lambda r: r["base.frequency"])
+            f = [r["base.frequency"] for r in sel]
+            for ax, (column, scale, _) in zip(axes, panels):
+                ax.plot(f, [scale * r[column] for r in sel], color=color, lw=1.1, ms=3.5,
+                        label=f"{label}, sweeping {direction}", **style)
+        for f in differ[key]:
+            for ax in axes:
+                ax.axvspan(f - 0.5, f + 0.5, color=color, alpha=0.12, lw=0)
+    for combo in {k[1] for k in keys}:
+        for k, fk in enumerate(modes_by_params.get(combo, [])):
+            if min(r["base.frequency"] for r in rows) <= fk <= max(r["base.frequency"] for r in rows):
+                for ax in axes:
+                    ax.axvline(fk, color="k", ls=":", lw=1)
+                axes[0].annotate(f"f{k + 1} = {fk:.1f} Hz", (fk, 1), xycoords=("data", "axes fraction"),
+                                 xytext=(3, -12), textcoords="offset points", fontsize=8)
+    for ax, (_, _, ylabel) in zip(axes, panels):
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+    axes[0].set_yscale("log")
+    axes[0].legend(fontsize=7, loc="upper right")
+    axes[0].set_title(title + "\nshaded: the two branches differ (RMS by more than "
+                      f"{BRANCH_TOLERANCE:.0%} and {BRANCH_SIGMAS:g}σ, or only one impacts)",
+                      fontsize=9)
+    axes[-1].set_xlabel("base frequency (Hz)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def plot(rows, modes_by_params, path, title):
@@ -359,11 +628,28 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--fmu", default=str(DEFAULT_FMU))
-    parser.add_argument("--frequencies", default="5:120:1",
-                        help="start:stop:step or a comma list, Hz (default 5:120:1)")
+    parser.add_argument("--continuation", action="store_true",
+                        help="one instance per configuration sweeps up then down, carrying its "
+                             "state (writes continuation.csv and continuation.png)")
+    parser.add_argument("--frequencies",
+                        help="start:stop:step or a comma list, Hz (default 5:120:1; with "
+                             "--continuation 30:90:1)")
     parser.add_argument("--amplitude", type=float, default=0.002,
-                        help="base.amplitude c (m), default 0.002 (inside the ±0.01 m gap)")
-    parser.add_argument("--stop-time", type=float, default=1.0, help="horizon T (s), default 1")
+                        help="base amplitude c (m), default 0.002 (inside the ±0.01 m gap)")
+    parser.add_argument("--zeta1", type=float,
+                        help="damping ratio of the first mode: sets damping.mass_proportional to "
+                             "2·zeta1·ω₁ with the library's ω₁ of the plate of the fixed "
+                             "parameters (default 0, the paper's undamped plate; with "
+                             "--continuation 0.01)")
+    parser.add_argument("--stop-time", type=float, default=1.0,
+                        help="horizon T (s) of each run from rest, default 1")
+    parser.add_argument("--settle", type=float, default=1.5,
+                        help="with --continuation: time (s) at each frequency before measuring")
+    parser.add_argument("--measure", type=float, default=1.0,
+                        help="with --continuation: time (s) measured at each frequency")
+    parser.add_argument("--comm-step", type=float,
+                        help="with --continuation: communication step (s), a multiple of "
+                             "solver.time_step (default: solver.time_step)")
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                         help="a fixed FMU parameter (repeatable)")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
@@ -377,12 +663,12 @@ def main(argv=None):
     group.add_argument("--serial", action="store_true", help="no Dask, one run after the other")
     parser.add_argument("--no-modes", action="store_true", help="do not mark natural frequencies")
     parser.add_argument("--out", default=str(ROOT / "out" / "sweep"),
-                        help="output folder for sweep.csv and sweep.png")
+                        help="output folder for the CSV and the plot")
     args = parser.parse_args(argv)
 
     from fmpy import read_model_description
     variables = {v.name: v for v in read_model_description(args.fmu).modelVariables}
-    fixed = {"base.amplitude": args.amplitude}
+    fixed = {}
     for item in args.set:
         name, _, text = item.partition("=")
         fixed[name] = parse_value(name, text, variables)
@@ -394,7 +680,16 @@ def main(argv=None):
     unknown = set(configs) - set(CONFIGS)
     if unknown:
         raise SystemExit(f"unknown configuration(s) {sorted(unknown)}: use obstacles and/or free")
-    frequencies = parse_frequencies(args.frequencies)
+    zeta1 = args.zeta1 if args.zeta1 is not None else (0.01 if args.continuation else 0.0)
+    if zeta1 < 0:
+        raise SystemExit(f"--zeta1 = {zeta1} must be >= 0")
+    if zeta1 > 0:
+        if "damping.mass_proportional" in fixed:
+            raise SystemExit("give --zeta1 or --set damping.mass_proportional, not both")
+        omega1 = 2 * math.pi * natural_frequencies(fixed, count=1)[0]
+        fixed["damping.mass_proportional"] = 2 * zeta1 * omega1
+    frequencies = parse_frequencies(args.frequencies or
+                                    ("30:90:1" if args.continuation else "5:120:1"))
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
@@ -409,11 +704,17 @@ def main(argv=None):
     try:
         where = (f"scheduler {args.scheduler}" if args.scheduler else
                  "serial" if args.serial else f"LocalCluster, {args.workers} workers")
-        print(f"sweep: {len(frequencies)} frequencies x {len(configs)} configurations"
-              f" x {int(np.prod([len(v) for v in grid.values()]))} parameter sets on {where}",
-              file=sys.stderr)
-        rows = sweep(args.fmu, frequencies, fixed=fixed, param_grid=grid, configs=configs,
-                     stop_time=args.stop_time, client=client)
+        print(f"{'continuation' if args.continuation else 'sweep'}: {len(frequencies)} frequencies"
+              f" x {len(configs)} configurations x {int(np.prod([len(v) for v in grid.values()]))}"
+              f" parameter sets on {where}", file=sys.stderr)
+        if args.continuation:
+            rows = continuation(args.fmu, frequencies, amplitude=args.amplitude, fixed=fixed,
+                                param_grid=grid, configs=configs, settle=args.settle,
+                                measure=args.measure, step=args.comm_step, client=client)
+        else:
+            fixed["base.amplitude"] = args.amplitude
+            rows = sweep(args.fmu, frequencies, fixed=fixed, param_grid=grid, configs=configs,
+                         stop_time=args.stop_time, client=client)
     finally:
         if client is not None:
             client.close()
@@ -429,19 +730,33 @@ def main(argv=None):
                 modes[combo] = natural_frequencies(values)
             except (OSError, RuntimeError) as e:
                 print(f"natural frequencies not marked: {e}", file=sys.stderr)
-    write_csv(rows, out / "sweep.csv", list(grid))
-    settings = ", ".join(f"{k}={v}" for k, v in sorted(fixed.items()))
-    plot(rows, modes, out / "sweep.png",
-         f"PlateImpact frequency sweep, T = {args.stop_time:g} s ({settings})")
     for combo, fs in modes.items():
-        extra = "".join(f" {k}={v}" for k, v in combo)
+        extra = _params_text(combo)
         print(f"natural frequencies{extra}: " + ", ".join(f"{f:.2f}" for f in fs) + " Hz",
               file=sys.stderr)
+    settings = ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
+                         for k, v in sorted(fixed.items()))
+    if args.continuation:
+        write_csv(rows, out / "continuation.csv", list(grid), CONTINUATION_COLUMNS)
+        plot_continuation(rows, modes, out / "continuation.png",
+                          f"PlateImpact swept up then down, c = {args.amplitude * 1e3:g} mm, "
+                          f"ζ₁ = {zeta1:g}, {args.settle:g} s + {args.measure:g} s per frequency"
+                          + (f" ({settings})" if settings else ""))
+        for (config, combo), fs in hysteresis(rows).items():
+            extra = _params_text(combo)
+            print(f"{config}{extra}: up and down branches differ at "
+                  + (", ".join(f"{f:g}" for f in fs) + " Hz" if fs else "no frequency"),
+                  file=sys.stderr)
+        print(f"wrote {out / 'continuation.csv'} and {out / 'continuation.png'}", file=sys.stderr)
+        return
+    write_csv(rows, out / "sweep.csv", list(grid))
+    plot(rows, modes, out / "sweep.png",
+         f"PlateImpact frequency sweep, T = {args.stop_time:g} s ({settings})")
     for config in configs:
         for combo in sorted({row["params"] for row in rows}):
             sel = [r for r in rows if r["config"] == config and r["params"] == combo]
             best = max(sel, key=lambda r: r["peak_corner_m"])
-            extra = "".join(f" {k}={v}" for k, v in combo)
+            extra = _params_text(combo)
             print(f"{config}{extra}: largest response {1e3 * best['peak_corner_m']:.3f} mm at "
                   f"{best['base.frequency']:g} Hz", file=sys.stderr)
     print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.png'}", file=sys.stderr)

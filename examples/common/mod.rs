@@ -1,0 +1,123 @@
+//! Pieces shared by the study examples (`accuracy`, `statistics`): the output directory chosen
+//! from the command line, writing its files, checking them, the plotting script run with the
+//! project's Python, the element names used in their CSVs, and the exit code of a study.
+
+use plate_impact::element::ElementKind;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// The CSV name of an element.
+pub fn element_name(e: ElementKind) -> &'static str {
+    match e {
+        ElementKind::Argyris => "argyris",
+        ElementKind::Fvs => "fvs",
+    }
+}
+
+/// The exit code of a study: success, or its error message on stderr and failure.
+pub fn exit_code(outcome: Result<(), String>) -> ExitCode {
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Where a study writes, and whether it runs in quick mode.
+pub struct StudyDir {
+    /// The output directory (created).
+    pub path: PathBuf,
+    /// `--quick`: a small subset that checks the pipeline and a few assertions.
+    pub quick: bool,
+    /// A temporary directory of a quick run, removed by [`StudyDir::finish`].
+    temporary: bool,
+}
+
+impl StudyDir {
+    /// Reads `--quick` and `--out DIR` from `args`. The directory is DIR when given; otherwise a
+    /// fresh temporary directory `<name>-quick-<pid>` in quick mode, else `docs/<docs>` of the
+    /// repository. It is created.
+    pub fn from_args(args: &[String], name: &str, docs: &str) -> Result<StudyDir, String> {
+        let quick = args.iter().any(|a| a == "--quick");
+        let out = match args.iter().position(|a| a == "--out") {
+            Some(i) => Some(args.get(i + 1).ok_or("--out needs a directory")?),
+            None => None,
+        };
+        let path: PathBuf = match out {
+            Some(dir) => dir.into(),
+            None if quick => {
+                std::env::temp_dir().join(format!("{name}-quick-{}", std::process::id()))
+            }
+            None => repository().join("docs").join(docs),
+        };
+        std::fs::create_dir_all(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(StudyDir {
+            path,
+            quick,
+            temporary: quick && out.is_none(),
+        })
+    }
+
+    /// Writes `text` to the file `name` of the directory.
+    pub fn write(&self, name: &str, text: &str) -> Result<(), String> {
+        let path = self.path.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Runs `examples/<script> DIR [--quick]` with the Python of `scripts/python-env`.
+    pub fn plot(&self, script: &str) -> Result<(), String> {
+        let root = repository();
+        let env = std::process::Command::new(root.join("scripts/python-env"))
+            .output()
+            .map_err(|e| format!("scripts/python-env: {e}"))?;
+        if !env.status.success() {
+            return Err(format!(
+                "scripts/python-env failed: {}",
+                String::from_utf8_lossy(&env.stderr)
+            ));
+        }
+        let python = String::from_utf8_lossy(&env.stdout).trim().to_string();
+        let mut command = std::process::Command::new(python);
+        command
+            .arg(root.join("examples").join(script))
+            .arg(&self.path);
+        if self.quick {
+            command.arg("--quick");
+        }
+        let status = command.status().map_err(|e| format!("{script}: {e}"))?;
+        if status.success() {
+            Ok(())
+        } else {
+            Err(format!("{script} exited with {status}"))
+        }
+    }
+
+    /// One message per file of `names` that is missing or empty.
+    pub fn missing(&self, names: &[&str]) -> Vec<String> {
+        names
+            .iter()
+            .filter(|name| std::fs::metadata(self.path.join(name)).map_or(0, |m| m.len()) == 0)
+            .map(|name| format!("{name} missing or empty"))
+            .collect()
+    }
+
+    /// Ends a study: with `failures`, an error that lists them (a quick run's directory is kept
+    /// to inspect); without, a quick run's temporary directory is removed.
+    pub fn finish(&self, failures: Vec<String>) -> Result<(), String> {
+        if !failures.is_empty() {
+            return Err(failures.join("; "));
+        }
+        if self.temporary {
+            std::fs::remove_dir_all(&self.path)
+                .map_err(|e| format!("{}: {e}", self.path.display()))?;
+        }
+        Ok(())
+    }
+}
+
+/// The repository's root directory.
+fn repository() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
