@@ -11,6 +11,7 @@ use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 use plate_impact::contact::block_factor::NotPositiveDefinite;
+use plate_impact::contact::cholesky::CholeskyAnalysis;
 use plate_impact::contact::clarabel::{
     polish, reference_settings, solve_box_qp, solve_box_qp_with,
 };
@@ -797,7 +798,8 @@ fn eliminated_primal_matches_delassus_and_clarabel() {
         let m = rng.random_range(10..=40);
         let mut p = Problem::random(&mut rng, n, m);
         let mut dw = DenseDelassus::new(m, p.w.clone());
-        let mut system = EliminatedSystem::new(Arc::new(p.a.clone()), &[], &p.c).unwrap();
+        let analysis = CholeskyAnalysis::new(p.a.symbolic(), None).unwrap();
+        let mut system = EliminatedSystem::new(Arc::new(p.a.clone()), analysis, &p.c).unwrap();
         let (mut delassus, mut primal) = (ActiveSetSolver::new(), ActiveSetSolver::new());
         let mut states = vec![BoundState::Free; m];
         let mut primal_states = states.clone();
@@ -907,7 +909,7 @@ fn sparse_contact_solves_with_either_subproblem() {
             (Some(Subproblem::Delassus), 8 * m * 3),
             (Some(Subproblem::Eliminated), usize::MAX),
         ] {
-            let mut contact = SparseContact::new(a.clone(), &[], &p.c, budget).unwrap();
+            let mut contact = SparseContact::new(a.clone(), &p.c, budget, None).unwrap();
             if let Some(choice) = choice {
                 contact.force(choice);
             }

@@ -77,6 +77,11 @@ impl DenseDelassus {
     pub fn get(&self, i: usize, j: usize) -> f64 {
         self.values[i + j * self.dim]
     }
+
+    /// Column j.
+    pub fn col(&self, j: usize) -> &[f64] {
+        &self.values[j * self.dim..(j + 1) * self.dim]
+    }
 }
 
 impl Delassus for DenseDelassus {
@@ -85,7 +90,23 @@ impl Delassus for DenseDelassus {
     }
 
     fn column(&mut self, j: usize) -> &[f64] {
-        &self.values[j * self.dim..(j + 1) * self.dim]
+        self.col(j)
+    }
+
+    fn identity(&self) -> Option<u64> {
+        Some(self.identity)
+    }
+}
+
+/// A shared W read in place (for instance from data several steppers share): the same values and
+/// identity as the operator itself.
+impl Delassus for &DenseDelassus {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn column(&mut self, j: usize) -> &[f64] {
+        self.col(j)
     }
 
     fn identity(&self) -> Option<u64> {
@@ -160,6 +181,11 @@ pub struct DelassusCache<F> {
 }
 
 impl<F: ColumnSource> DelassusCache<F> {
+    /// The column source.
+    pub fn source(&self) -> &F {
+        &self.compute
+    }
+
     /// The column source (to solve with the same factor of A, for instance).
     pub fn source_mut(&mut self) -> &mut F {
         &mut self.compute

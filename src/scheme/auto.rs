@@ -2,7 +2,7 @@
 
 use super::backend::LinearBackend;
 use super::modal::{FreeDofData, ModalBackend, ModalData};
-use super::sparse::{SparseBackend, SparseData};
+use super::sparse::SparseBackend;
 use super::FreeSystem;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Scene};
@@ -47,6 +47,6 @@ pub fn build(
             );
             Box::new(ModalBackend::new(Arc::new(data)))
         }
-        _ => Box::new(SparseBackend::new(Arc::new(SparseData::new(free.clone())?))),
+        _ => Box::new(SparseBackend::new(Arc::clone(free))?),
     })
 }

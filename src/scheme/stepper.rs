@@ -2,7 +2,7 @@
 //! solve, and what a step reports.
 
 use super::auto;
-use super::backend::{BackendDelassus, LinearBackend, StepForcing};
+use super::backend::{LinearBackend, StepForcing};
 use super::energy::{DiscreteEnergy, EnergyFlows};
 use super::impact::{newton_bounds, Law, VertexHistory, VertexMotion};
 use super::outputs::Outputs;
@@ -10,7 +10,7 @@ use super::preload::static_preload;
 use super::reference::solve_reference;
 use super::state::{state_code, State};
 use super::FreeSystem;
-use crate::contact::{ActiveSetSolver, BoundState, BoxQp, PdasReport, PdasSettings};
+use crate::contact::{BoundState, BoxQp, PdasReport, PdasSettings};
 use crate::error::Error;
 use crate::scene::{LinearChoice, QpChoice, Scene};
 use crate::system::PlateSystem;
@@ -118,7 +118,6 @@ pub struct Stepper {
     history: VertexHistory,
     /// The contact state of each constrained vertex: the active-set warm start.
     states: Vec<BoundState>,
-    active_set: ActiveSetSolver,
     active_set_settings: PdasSettings,
     /// Contact force at each constrained vertex after the last step (N); at n = 0 the static
     /// contact forces of the preload.
@@ -192,7 +191,6 @@ impl Stepper {
             law: Law::of(&scene.solver),
             history: VertexHistory::new(m),
             states: preload.states,
-            active_set: ActiveSetSolver::new(),
             active_set_settings: PdasSettings::default(),
             forces: preload.forces,
             initial_warning: preload.warning,
@@ -353,7 +351,7 @@ impl Stepper {
             current,
             next,
         } = &mut self.levels;
-        let mut sums = self.backend.predict(previous, current, &forcing, next);
+        let mut sums = self.backend.predict(previous, current, &forcing, next)?;
         if !sums.norm_squared.is_finite() {
             return Err(self.overflow("the unconstrained displacement", t_next, base_next));
         }
@@ -397,7 +395,7 @@ impl Stepper {
                 warning = polish_warning;
                 (StepPath::Clarabel, Some(mu))
             } else {
-                match self.solve_with_active_set() {
+                match self.solve_with_active_set()? {
                     Ok(mu) => (StepPath::ActiveSet, Some(mu)),
                     Err(report) => {
                         let (mu, polish_warning) = self.solve_with_clarabel(&forcing)?;
@@ -651,32 +649,24 @@ impl Stepper {
         }
     }
 
-    /// The exact active-set method on the Delassus operator, warm-started from the last step's
-    /// contact states, into the trial states; its report when it does not converge (the caller
+    /// The backend's exact active-set method, warm-started from the last step's contact states,
+    /// into the trial states and the next level; its report when it does not converge (the caller
     /// falls back to clarabel).
-    fn solve_with_active_set(&mut self) -> Result<Vec<f64>, PdasReport> {
-        let mut delassus = BackendDelassus {
-            backend: &mut *self.backend,
-            dim: self.prediction.len(),
-        };
+    fn solve_with_active_set(&mut self) -> Result<Result<Vec<f64>, PdasReport>, Error> {
         self.trial_states.copy_from_slice(&self.states);
-        let report = self.active_set.solve(
-            &mut delassus,
+        let report = self.backend.solve_contact(
+            &mut self.levels.next,
             &self.prediction,
             &self.lower,
             &self.upper,
             &mut self.trial_states,
             &self.active_set_settings,
-        );
-        if !report.status.is_solved() {
-            return Err(report);
-        }
-        let mu = self.active_set.lambda().to_vec();
-        let active: Vec<usize> = (0..mu.len())
-            .filter(|&i| self.trial_states[i].is_active())
-            .collect();
-        self.backend.correct(&mut self.levels.next, &active, &mu);
-        Ok(mu)
+        )?;
+        Ok(if report.status.is_solved() {
+            Ok(self.backend.contact_multipliers().to_vec())
+        } else {
+            Err(report)
+        })
     }
 
     /// clarabel on the full primal QP min ½wᵀAw − bᵀw over the box, into the trial states;
