@@ -12,7 +12,9 @@
 //!    step split into contact-free steps and steps with a QP, and the memory peaks after the
 //!    set-up and after the run (`--csv`: the same as one CSV line).
 //!
-//! `--scale` runs the size sweep instead (both elements, 10 × 7 to 100 × 50, the backend `auto`
+//! `--verify NAME` runs a case beside the clarabel reference (`solver.qp = clarabel`) until ten
+//! steps with a QP have been compared, and prints the largest difference of the constrained
+//! displacements and the largest bound violation. `--scale` runs the size sweep instead (both elements, 10 × 7 to 100 × 50, the backend `auto`
 //! picks), as the CSV that `docs/scale/plot.py` reads; `--crossover` runs both backends on the
 //! meshes around `MODAL_AUTO_LIMIT`, where the choice between them is made. `--anatomy` times the
 //! parts of a sparse step (factor size with each ordering, one solve, one product, and the memory
@@ -45,6 +47,11 @@ fn mesh_scene(element: ElementKind, nx: usize, ny: usize) -> Scene {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    if let Some(k) = args.iter().position(|a| a == "--verify") {
+        let name = args.get(k + 1).expect("--verify needs a case name");
+        verify_against_clarabel(&case(name), 10);
+        return;
+    }
     if let Some(k) = args.iter().position(|a| a == "--case") {
         let name = args.get(k + 1).expect("--case needs a case name");
         run_case(&case(name), args.iter().any(|a| a == "--csv"));
@@ -405,6 +412,63 @@ fn run_case(case: &Case, csv: bool) {
         memory_setup,
         peak_memory_mib(),
     );
+}
+
+/// Runs `case` with the fast path and with clarabel on every constrained step side by side until
+/// `qp_steps` steps with a QP have been compared (or the case ends), and prints the largest
+/// difference of the displacements at the constrained vertices over all steps, and the largest
+/// violation of an obstacle by the fast path.
+fn verify_against_clarabel(case: &Case, qp_steps: usize) {
+    let s = &case.scene;
+    let plate = PlateSystem::new(s).unwrap();
+    let mut fast = Stepper::from_system(s, &plate, 0.0).unwrap();
+    let mut reference_scene = s.clone();
+    reference_scene.solver.qp = QpChoice::Clarabel;
+    let mut reference = Stepper::from_system(&reference_scene, &plate, 0.0).unwrap();
+    let steps = (s.stop_time / s.solver.time_step).round() as usize;
+    let (mut compared, mut worst, mut violation, mut most_active) = (0, 0.0_f64, 0.0_f64, 0);
+    // The largest force difference, relative to the largest reference force of that step.
+    let mut force_difference = 0.0_f64;
+    for n in 1..=steps {
+        let z = s.builtin_base(n as f64 * s.solver.time_step);
+        let report = fast.step(z).unwrap();
+        reference.step(z).unwrap();
+        let (u, v) = (
+            fast.constrained_displacements(),
+            reference.constrained_displacements(),
+        );
+        for (a, b) in u.iter().zip(&v) {
+            worst = worst.max((a - b).abs());
+        }
+        for &a in &u {
+            let below = s.lower_obstacle().map_or(0.0, |g| g - a);
+            let above = s.upper_obstacle().map_or(0.0, |g| a - g);
+            violation = violation.max(below).max(above);
+        }
+        let (f, g) = (fast.contact_forces(), reference.contact_forces());
+        let scale = g.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        if scale > 0.0 {
+            let d = f
+                .iter()
+                .zip(g)
+                .fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+            force_difference = force_difference.max(d / scale);
+        }
+        most_active = most_active.max(report.active);
+        let done = n == steps || {
+            compared += usize::from(report.path != StepPath::Unconstrained);
+            compared == qp_steps
+        };
+        if done {
+            println!(
+                "{}: {n} steps, {compared} with a QP (up to {most_active} contacts): largest \
+                 |u − u_clarabel| {worst:.1e} m, largest bound violation {violation:.1e} m, \
+                 largest force difference {force_difference:.1e} of the step's largest force",
+                case.name
+            );
+            return;
+        }
+    }
 }
 
 /// Median seconds of `reps` runs of `f`.

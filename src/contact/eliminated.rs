@@ -35,7 +35,7 @@ use std::sync::Arc;
 pub struct EliminatedStats {
     /// Numeric factorisations (one per new working set, and one of A itself when needed).
     pub factorizations: usize,
-    /// Right-hand sides solved with a factor (two triangular solves and a refinement each).
+    /// Right-hand sides solved with a factor.
     pub solves: usize,
 }
 
@@ -162,14 +162,26 @@ impl EliminatedSystem {
     /// factor holds a working set or there is none yet.
     pub fn solve_unconstrained(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
         x.copy_from_slice(b);
-        self.solve_unconstrained_in_place(ColMut::from_slice_mut(x).as_mat_mut())
+        self.factor_unconstrained()?;
+        self.solve_reduced(ColMut::from_slice_mut(x).as_mat_mut());
+        Ok(())
     }
 
-    /// As [`Self::solve_unconstrained`], in place on the columns of `b` (n × r): several right-hand
-    /// sides stream the factor once, e.g. a block of columns of A⁻¹ Bᵀ for the Delassus operator.
-    pub fn solve_unconstrained_in_place(&mut self, b: MatMut<'_, f64>) -> Result<(), Error> {
+    /// x = A⁻¹ b in place on the columns of `b` (n × r) by one solve with the factor, without the
+    /// refinement step: several right-hand sides stream the factor once, e.g. a block of columns
+    /// of A⁻¹ Bᵀ for the Delassus operator. The solve is backward stable; on the plates its
+    /// residual is 2 to 4 times that of the refined solve, whose own residual is the round-off of
+    /// forming b − Ax.
+    pub fn solve_unconstrained_unrefined_in_place(
+        &mut self,
+        b: MatMut<'_, f64>,
+    ) -> Result<(), Error> {
         self.factor_unconstrained()?;
-        self.solve_reduced(b);
+        self.stats.solves += b.ncols();
+        self.factor
+            .as_mut()
+            .expect("factored just above")
+            .solve_in_place(b);
         Ok(())
     }
 
