@@ -39,7 +39,7 @@ use crate::contact::sparse_contact::delassus_limit;
 use crate::element::ElementKind;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Scene};
-use crate::scheme::MODAL_AUTO_LIMIT;
+use crate::scheme::resolve_linear;
 
 /// n × n dense matrices alive at the peak of the modal set-up (dense M_ff and K_ff, the Cholesky
 /// factor of K_ff, the transformed pencil and its symmetric copy, the eigensolver's vectors and
@@ -114,11 +114,7 @@ impl MemoryEstimate {
             ElementKind::Argyris => (45.0, 21.0, 46_056.0, 9_067_318.0),
             ElementKind::Fvs => (27.0, 12.0, 15_453.0, 1_404_531.0),
         };
-        let backend = match scene.solver.linear {
-            LinearChoice::Auto if size.free_dofs <= MODAL_AUTO_LIMIT => LinearChoice::Modal,
-            LinearChoice::Auto => LinearChoice::Sparse,
-            choice => choice,
-        };
+        let backend = resolve_linear(scene.solver.linear, size.free_dofs);
         let nnz_all = entries_per_dof * size.dofs as f64;
         let nnz_free = entries_per_dof * n;
         let triplets_per_matrix = size.cells as f64 * cell_dofs * cell_dofs;
@@ -287,5 +283,26 @@ mod tests {
         assert!(MemoryEstimate::of(&scene(ElementKind::Fvs, 14, 10))
             .check(DEFAULT_MEMORY_BUDGET)
             .is_ok());
+    }
+
+    /// The stepper refuses such a scene before assembling anything (which would take minutes and
+    /// tens of GiB for 400 × 400 Argyris), with the estimate's message; meshes within the budget
+    /// set up.
+    #[test]
+    fn the_stepper_refuses_a_scene_over_the_budget() {
+        let err = match crate::scheme::Stepper::new(&scene(ElementKind::Argyris, 400, 400), 0.0) {
+            Ok(_) => panic!("a 400 × 400 Argyris mesh must be refused"),
+            Err(err) => err.to_string(),
+        };
+        let expected = MemoryEstimate::of(&scene(ElementKind::Argyris, 400, 400))
+            .check(DEFAULT_MEMORY_BUDGET)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(err, expected);
+        assert!(
+            err.contains("largest part") && err.contains("budget"),
+            "{err}"
+        );
+        assert!(crate::scheme::Stepper::new(&scene(ElementKind::Fvs, 14, 10), 0.0).is_ok());
     }
 }

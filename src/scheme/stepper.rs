@@ -10,6 +10,7 @@ use super::preload::static_preload;
 use super::reference::solve_reference;
 use super::state::{state_code, State};
 use super::FreeSystem;
+use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
 use crate::contact::{BoundState, BoxQp, PdasReport, PdasSettings};
 use crate::error::Error;
 use crate::scene::{LinearChoice, QpChoice, Scene};
@@ -149,18 +150,24 @@ impl Stepper {
     /// Assembles the plate, chooses and builds the linear backend, computes the initial state
     /// (static equilibrium under the preload, with contact if it pushes into an obstacle, about
     /// the base position `initial_base` (m)), released at rest.
+    ///
+    /// A scene whose estimated memory ([`MemoryEstimate`]) exceeds [`DEFAULT_MEMORY_BUDGET`] is
+    /// refused before anything is assembled, with an error that names the estimate, its largest
+    /// part and the budget.
     pub fn new(scene: &Scene, initial_base: f64) -> Result<Stepper, Error> {
+        check_set_up(scene)?;
         let plate = PlateSystem::new(scene)?;
         Stepper::from_system(scene, &plate, initial_base)
     }
 
-    /// As [`Stepper::new`], reusing an assembled plate of the same scene.
+    /// As [`Stepper::new`], reusing an assembled plate of the same scene (the memory budget is
+    /// checked for the rest of the set-up and the run).
     pub fn from_system(
         scene: &Scene,
         plate: &PlateSystem,
         initial_base: f64,
     ) -> Result<Stepper, Error> {
-        scene.validate()?;
+        check_set_up(scene)?;
         check_base(scene, 0.0, initial_base)?;
         let free = Arc::new(FreeSystem::new(scene, plate));
         let linear = auto::resolve(scene.solver.linear, plate.free.len());
@@ -891,6 +898,13 @@ impl Stepper {
         let dt = scene.solver.time_step;
         RESTORE_FORCE_TOLERANCE * largest_diagonal * gap(scene) / (dt * dt)
     }
+}
+
+/// The checks a scene must pass before anything is set up: its parameters, then its estimated
+/// memory against [`DEFAULT_MEMORY_BUDGET`] (docs/contact.md, "Memory").
+fn check_set_up(scene: &Scene) -> Result<(), Error> {
+    scene.validate()?;
+    MemoryEstimate::of(scene).check(DEFAULT_MEMORY_BUDGET)
 }
 
 /// The distance between the obstacles, or to the one obstacle; 1 m without any.
