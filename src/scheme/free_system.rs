@@ -55,8 +55,8 @@ impl FreeSystem {
     /// Restricts the assembled plate of `scene` to its free dofs.
     pub fn new(scene: &Scene, plate: &PlateSystem) -> FreeSystem {
         let keep = &plate.free;
-        let mass = sparse_restriction(&plate.mass, keep);
-        let stiffness = sparse_restriction(&plate.stiffness, keep);
+        let mass = sparse_restriction(plate.mass.as_ref(), keep);
+        let stiffness = sparse_restriction(plate.stiffness.as_ref(), keep);
         let dt = scene.solver.time_step;
         let damping = scene.damping.clone();
         let (alpha, beta) = (damping.mass_proportional, damping.stiffness_proportional);

@@ -22,7 +22,7 @@ use crate::error::Error;
 use crate::modes::Modes;
 use crate::scene::Damping;
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Col, Mat, MatMut, Par};
+use faer::{Accum, Col, ColRef, Mat, MatMut, Par};
 use std::sync::Arc;
 
 /// The diagonal system of one kind of step in modal coordinates: D = diag(d_k).
@@ -160,14 +160,14 @@ impl ModalData {
         let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c);
         let start = (!free.damping.is_zero())
             .then(|| ModalSystem::new(&modes.omega_squared, &Damping::default(), time_step, &c));
+        // Φᵀv.
         let project = |v: &[f64]| -> Vec<f64> {
-            (0..n)
-                .map(|k| (0..v.len()).map(|i| shapes[(i, k)] * v[i]).sum())
-                .collect()
+            let projected = shapes.transpose() * ColRef::from_slice(v);
+            projected.iter().copied().collect()
         };
         let low = SCREENING_MODES.min(n);
-        let row_norm =
-            |i: usize, from: usize| (from..n).map(|k| c[(i, k)] * c[(i, k)]).sum::<f64>().sqrt();
+        // ‖C_i‖ over the modes from `from` on.
+        let row_norm = |i: usize, from: usize| c.row(i).subcols(from, n - from).norm_l2();
         let high_row_norms = (0..m).map(|i| row_norm(i, low)).collect();
         let row_norms = (0..m).map(|i| row_norm(i, 0)).collect();
         let load = project(free.load);
@@ -306,15 +306,12 @@ impl LinearBackend for ModalBackend {
             scaled * faer::ColRef::from_slice(next) - scaled * faer::ColRef::from_slice(previous)
         } else {
             let c = &self.data.c;
+            let difference = Col::from_fn(next.len(), |k| next[k] - previous[k]);
             multipliers
                 .iter()
                 .enumerate()
                 .filter(|(_, &mu)| mu != 0.0)
-                .map(|(i, &mu)| {
-                    mu * (0..c.ncols())
-                        .map(|k| c[(i, k)] * (next[k] - previous[k]))
-                        .sum::<f64>()
-                })
+                .map(|(i, &mu)| mu * (c.row(i) * &difference))
                 .sum()
         }
     }
