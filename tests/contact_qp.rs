@@ -934,3 +934,54 @@ fn sparse_contact_solves_with_either_subproblem() {
     }
     assert!(used[0] > 0 && used[1] > 0);
 }
+
+/// At a load so large that the step's numbers lose all meaning (1e20 and 1e30 Pa on the paper's
+/// Argyris mesh, both impact laws), a step either keeps every constrained vertex within the
+/// obstacles or is refused with an error that names what went wrong (a vertex past its bound, or
+/// an overflow) and leaves the stepper where it was: never Ok with the plate through an obstacle.
+#[test]
+fn a_huge_load_never_puts_the_plate_through_an_obstacle() {
+    use plate_impact::element::ElementKind;
+    use plate_impact::scene::Scene;
+    use plate_impact::scheme::{Stepper, RESTORE_BOUND_TOLERANCE};
+    for pressure in [1e20, 1e30] {
+        for restitution in [0.0, 0.5] {
+            let mut scene = Scene::named("forced-35hz").unwrap();
+            scene.mesh.element = ElementKind::Argyris;
+            scene.load.pressure = pressure;
+            scene.solver.restitution = restitution;
+            let (g1, g2) = (scene.obstacle.lower, scene.obstacle.upper);
+            // What a step must keep: the tolerance of a restored state (the stepper's own check).
+            let tolerance = RESTORE_BOUND_TOLERANCE * (g2 - g1);
+            let mut stepper = Stepper::new(&scene, 0.0).unwrap();
+            let case = format!("p = {pressure:e} Pa, e = {restitution}");
+            let mut refused = false;
+            for _ in 0..20 {
+                let before = stepper.time();
+                match stepper.step(0.0) {
+                    Ok(_) => {
+                        for (i, u) in stepper.constrained_displacements().iter().enumerate() {
+                            assert!(
+                                *u >= g1 - tolerance && *u <= g2 + tolerance,
+                                "{case}: vertex {i} at u = {u} m accepted outside [{g1}, {g2}] m"
+                            );
+                        }
+                    }
+                    Err(e) => {
+                        let text = e.to_string();
+                        assert!(
+                            (text.contains("constrained vertex") && text.contains("bound"))
+                                || text.contains("non-finite"),
+                            "{case}: {text}"
+                        );
+                        assert_eq!(stepper.time(), before, "{case}: a refused step moved time");
+                        eprintln!("{case}: {text}");
+                        refused = true;
+                        break;
+                    }
+                }
+            }
+            eprintln!("{case}: refused {refused} at t = {} s", stepper.time());
+        }
+    }
+}

@@ -67,6 +67,17 @@ pub struct StepReport {
 /// pushed out within one step, an arbitrary impulse.
 pub const RESTORE_BOUND_TOLERANCE: f64 = 1e-6;
 
+/// Relative tolerance of the bounds on the active-set method's answer, as a fraction of the gap
+/// (g2 − g1, or |g| with one obstacle), before the step accepts it. An exact solve puts an active
+/// vertex on its bound to round-off of the displacements, which stay within the gap (the stability
+/// matrix asserts 1e-9 of the gap on extreme scenes and measures far less); an answer further out
+/// is no solution of the step's QP (at a load of 1e20 Pa the method's own convergence test,
+/// relative to the largest predicted value, can accept one), and clarabel solves the step instead.
+/// Clarabel's answer is then held to [`RESTORE_BOUND_TOLERANCE`], looser because an unpolished
+/// interior-point answer may lie a few 1e-8 m out, and equal to it so that every accepted step
+/// leaves a state that restores.
+const ACTIVE_SET_BOUND_TOLERANCE: f64 = 1e-9;
+
 /// Relative tolerance of the sign of a restored contact force, as a fraction of the force that
 /// moves the hardest-to-move constrained vertex across the gap in one step, max_i A_ii·gap/Δt².
 /// The active-set method accepts a wrong-signed multiplier μ_i while W_ii·|μ_i| ≤ 1e-11 of the gap
@@ -142,6 +153,8 @@ pub struct Stepper {
     trial_states: Vec<BoundState>,
     trial_forces: Vec<f64>,
     prediction: Vec<f64>,
+    /// w_{n+1} at the constrained vertices after the contact solve, for its bound check.
+    solved: Vec<f64>,
     lower: Vec<f64>,
     upper: Vec<f64>,
 }
@@ -204,6 +217,7 @@ impl Stepper {
             trial_states: vec![BoundState::Free; m],
             trial_forces: vec![0.0; m],
             prediction: vec![0.0; m],
+            solved: vec![0.0; m],
             lower: vec![0.0; m],
             upper: vec![0.0; m],
             free,
@@ -402,16 +416,37 @@ impl Stepper {
                 warning = polish_warning;
                 (StepPath::Clarabel, Some(mu))
             } else {
-                match self.solve_with_active_set()? {
+                let tolerance = ACTIVE_SET_BOUND_TOLERANCE * gap(&self.scene);
+                let failure = match self.solve_with_active_set()? {
+                    Ok(mu) => match self.first_past_bound(tolerance) {
+                        None => Ok(mu),
+                        Some(past) => Err(format!(
+                            "the active-set method reported a solution with {}",
+                            past.describe(tolerance)
+                        )),
+                    },
+                    Err(report) => Err(format!(
+                        "the active-set method did not converge ({:?} after {} iterations and \
+                         {} safeguard iterations)",
+                        report.status, report.iterations, report.safeguard_iterations
+                    )),
+                };
+                match failure {
                     Ok(mu) => (StepPath::ActiveSet, Some(mu)),
-                    Err(report) => {
-                        let (mu, polish_warning) = self.solve_with_clarabel(&forcing)?;
-                        let fallback = format!(
-                            "at t = {t_next} s the active-set method did not converge \
-                             ({:?} after {} iterations and {} safeguard iterations): clarabel \
-                             solved the step instead",
-                            report.status, report.iterations, report.safeguard_iterations
-                        );
+                    Err(reason) => {
+                        let (mu, polish_warning) =
+                            self.solve_with_clarabel(&forcing).map_err(|e| {
+                                Error::ContactSolver(format!(
+                                    "at t = {t_next} s (base displacement {base_next:e} m, \
+                                     load.pressure {:e} Pa) {reason}, and the clarabel fallback \
+                                     failed too ({e}): the step is refused and the state stays \
+                                     at t = {} s",
+                                    self.scene.load.pressure,
+                                    self.time()
+                                ))
+                            })?;
+                        let fallback =
+                            format!("at t = {t_next} s {reason}: clarabel solved the step instead");
                         warning = Some(match polish_warning {
                             Some(w) => format!("{fallback}; {w}"),
                             None => fallback,
@@ -421,6 +456,20 @@ impl Stepper {
                 }
             }
         };
+        if multipliers.is_some() {
+            // Every answer is checked, clarabel's too: no step is accepted with a vertex past
+            // its bounds by more than a restored state may be.
+            let tolerance = RESTORE_BOUND_TOLERANCE * gap(&self.scene);
+            if let Some(past) = self.first_past_bound(tolerance) {
+                return Err(Error::ContactSolver(format!(
+                    "at t = {t_next} s (base displacement {base_next:e} m, load.pressure {:e} Pa) \
+                     the contact solve left {}: the step is refused and the state stays at t = {} s",
+                    self.scene.load.pressure,
+                    past.describe(tolerance),
+                    self.time()
+                )));
+            }
+        }
         // The step's equation times Δt² is the QP's optimality condition A w − b = Bᵀμ, so
         // f = μ/Δt²; the start step's equation is multiplied by Δt²/2 (its
         // 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 gives b_0 = M u_0 + ½Δt²F̄_0), so there
@@ -654,6 +703,27 @@ impl Stepper {
             };
             [self.lower[i], self.upper[i]] = newton_bounds(e, lower, upper, motion);
         }
+    }
+
+    /// The first constrained vertex of the next level (the contact solve's answer) that lies past
+    /// its bound of this step by more than `tolerance` (m), lower bounds first; a non-finite value
+    /// counts as past.
+    fn first_past_bound(&mut self, tolerance: f64) -> Option<PastBound> {
+        self.backend
+            .constrained_values(&self.levels.next, &mut self.solved);
+        let solved = &self.solved;
+        let find = |side, bound: &[f64], inside: &dyn Fn(f64, f64) -> bool| {
+            (0..solved.len())
+                .find(|&i| !inside(solved[i], bound[i]))
+                .map(|vertex| PastBound {
+                    side,
+                    vertex,
+                    value: solved[vertex],
+                    bound: bound[vertex],
+                })
+        };
+        find(Obstacle::Lower, &self.lower, &|w, lo| w >= lo - tolerance)
+            .or_else(|| find(Obstacle::Upper, &self.upper, &|w, hi| w <= hi + tolerance))
     }
 
     /// The backend's exact active-set method, warm-started from the last step's contact states,
@@ -921,6 +991,38 @@ fn gap(scene: &Scene) -> f64 {
 enum Obstacle {
     Lower,
     Upper,
+}
+
+/// A constrained vertex of a step's answer found past its bound of that step.
+#[derive(Clone, Copy, Debug)]
+struct PastBound {
+    side: Obstacle,
+    /// Index among the constrained vertices.
+    vertex: usize,
+    /// Its displacement relative to the base, w (m).
+    value: f64,
+    /// Its bound: the obstacle's level relative to the base, or the impact law's bound (m).
+    bound: f64,
+}
+
+impl PastBound {
+    /// "constrained vertex 12 at w = … m relative to the base, past its lower bound … m (the
+    /// lower obstacle or the impact law's bound) by … m, more than the tolerance of … m".
+    fn describe(&self, tolerance: f64) -> String {
+        let side = match self.side {
+            Obstacle::Lower => "lower",
+            Obstacle::Upper => "upper",
+        };
+        format!(
+            "constrained vertex {} at w = {:e} m relative to the base, past its {side} bound {:e} m \
+             (the {side} obstacle or the impact law's bound) by {:e} m, more than the tolerance \
+             of {tolerance:e} m",
+            self.vertex,
+            self.value,
+            self.bound,
+            (self.value - self.bound).abs()
+        )
+    }
 }
 
 /// A constrained vertex found past an obstacle.
