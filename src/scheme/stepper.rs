@@ -185,7 +185,7 @@ impl Stepper {
         let free = Arc::new(FreeSystem::new(scene, plate));
         let linear = auto::resolve(scene.solver.linear, plate.free.len());
         let preload = static_preload(scene, &free, initial_base)?;
-        let backend = auto::build(linear, scene, plate, &free)?;
+        let backend = auto::build(linear, scene, &free)?;
         let mut field = vec![0.0; backend.dimension()];
         backend.field_of_free_dofs(&preload.displacement, &mut field);
         let m = free.constrained.len();
