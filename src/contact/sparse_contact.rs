@@ -10,9 +10,8 @@
 //! a step first needs it. A step whose
 //! warm start has at most [`SparseContact::delassus_limit`] active indices (min(m/4, 1 000)) is
 //! solved on W, a larger one by elimination; so is a cold start (no warm start) whose
-//! unconstrained step leaves the box at more vertices whose columns are not cached yet than that
-//! limit (see docs/contact.md for the measurements behind
-//! the rule). Either way the answer is the QP's exact minimiser.
+//! unconstrained step leaves the box at more vertices than that limit (see docs/contact.md for
+//! the measurements behind the rule). Either way the answer is the QP's exact minimiser.
 
 use super::cholesky::CholeskyAnalysis;
 use super::delassus::{ColumnSource, DelassusCache};
@@ -129,7 +128,7 @@ impl SparseContact {
         self.forced = Some(choice);
     }
 
-    /// The largest warm start, or number of uncached columns a cold start would need, solved on the
+    /// The largest warm start, or number of values outside the box on a cold start, solved on the
     /// Delassus operator ([`delassus_limit`]).
     pub fn delassus_limit(&self) -> usize {
         self.limit
@@ -159,18 +158,19 @@ impl SparseContact {
         for (y, &c) in self.y_star.iter_mut().zip(constrained) {
             *y = x_star[c];
         }
-        // Elimination when the warm start is large, or on a cold start when the columns that the
-        // values outside the box would need are mostly not cached yet.
+        // Elimination when the warm start is large, or on a cold start when many values lie
+        // outside the box. The rule reads the step's data only, not what the cache holds: the
+        // path, hence the round-off, of a step must not depend on the steps before it (a restored
+        // state continues bit for bit).
         let warm = states.iter().filter(|s| s.is_active()).count();
-        let missing = if warm == 0 {
+        let outside = if warm == 0 {
             (0..self.y_star.len())
                 .filter(|&i| self.y_star[i] < lower[i] || self.y_star[i] > upper[i])
-                .filter(|&i| !self.delassus.holds(i))
                 .count()
         } else {
             0
         };
-        self.last = self.forced.unwrap_or(if warm.max(missing) <= self.limit {
+        self.last = self.forced.unwrap_or(if warm.max(outside) <= self.limit {
             Subproblem::Delassus
         } else {
             Subproblem::Eliminated

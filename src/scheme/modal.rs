@@ -38,8 +38,7 @@ struct ModalSystem {
     lagged: Vec<f64>,
     /// Cᵀ scaled by D⁻¹ row-wise, stored as n × m: column i is D⁻¹ Cᵀ e_i = Φᵀ A⁻¹ Bᵀ e_i.
     c_t_scaled: Mat<f64>,
-    /// W = C D⁻¹ Cᵀ (m × m), with an identity: the active-set solver keeps the factor of its
-    /// active block from one step to the next.
+    /// W = C D⁻¹ Cᵀ (m × m), precomputed.
     delassus: DenseDelassus,
 }
 
@@ -358,8 +357,7 @@ impl LinearBackend for ModalBackend {
         })
     }
 
-    /// The active-set method on the precomputed W (the factor of its active block kept from step
-    /// to step), then q_{n+1} = q* + D⁻¹Cᵀμ, a sum over the active columns of D⁻¹Cᵀ.
+    /// The active-set method on the precomputed W, then q_{n+1} = q* + D⁻¹Cᵀμ, a sum over the active columns of D⁻¹Cᵀ.
     fn solve_contact(
         &mut self,
         next: &mut [f64],
