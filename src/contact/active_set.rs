@@ -225,6 +225,9 @@ pub struct PdasReport {
     pub safeguard_iterations: usize,
     /// Number of active indices at the end.
     pub active: usize,
+    /// tol·s of [`PdasSettings::tol`] (the units of y): when the status is solved, every value
+    /// of the answer's y lies within it of its bounds (active ones on them).
+    pub bound_tolerance: f64,
 }
 
 /// The owned result of [`solve_box_lcp`].
@@ -354,6 +357,7 @@ impl ActiveSetSolver {
             iterations: 0,
             safeguard_iterations: 0,
             active: 0,
+            bound_tolerance: f64::INFINITY,
         };
         if y_star.len() != m || lower.len() != m || upper.len() != m || states.len() != m {
             return report;
@@ -382,6 +386,7 @@ impl ActiveSetSolver {
             }
         }
         let tol_y = settings.tol * scale.max(f64::MIN_POSITIVE);
+        report.bound_tolerance = tol_y;
 
         // PDAS proper.
         let mut hash = hash_states(states);
