@@ -27,7 +27,8 @@ pub enum StepPath {
     ActiveSet,
     /// clarabel, because `solver.qp = clarabel`.
     Clarabel,
-    /// clarabel, after the active-set method did not converge.
+    /// clarabel, after the active-set method did not converge or its answer failed the bound
+    /// check.
     ClarabelFallback,
 }
 
@@ -463,9 +464,9 @@ impl Stepper {
                 }
             }
         };
-        if multipliers.is_some() {
-            // Every answer is checked, clarabel's too: no step is accepted with a vertex past
-            // its bounds by more than a restored state may be.
+        if matches!(path, StepPath::Clarabel | StepPath::ClarabelFallback) {
+            // Clarabel's answer is checked too (the active-set one was, to a tighter tolerance):
+            // no step is accepted with a vertex past its bounds by more than a restored state may be.
             let tolerance = RESTORE_BOUND_TOLERANCE * gap(&self.scene);
             if let Some(past) = self.first_past_bound(tolerance) {
                 return Err(Error::ContactSolver(format!(
