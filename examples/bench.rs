@@ -1,6 +1,6 @@
 //! Benchmarks (timings and ratios measured in one run; never asserted in tests).
 //!
-//! `cargo run --release --example bench [-- --quick | --scale | --case NAME]`
+//! `cargo run --release --example bench [-- --quick | --scale | --crossover | --anatomy | --case NAME [--csv]]`
 //!
 //! 1. Assembly of M, K and the load for the paper's 140-element meshes and for ~10k elements.
 //! 2. Stepping the `forced` scene at 35 Hz, Δt = 1e-4 s, 1 s (10⁴ steps) for both elements with
@@ -10,26 +10,24 @@
 //! 3. Contact at scale: each case runs in a child process of its own (`--case NAME`), so that its
 //!    peak resident memory (VmHWM of /proc/self/status) is its own; it prints set-up time, µs per
 //!    step split into contact-free steps and steps with a QP, and the memory peaks after the
-//!    set-up and after the run. `--scale` runs the size sweep (both elements, 10 × 7 to 100 × 50)
-//!    instead of sections 1 and 2.
-//! 4. The sparse contact path of the next phase, prototyped on the library's solvers
-//!    ([`run_prototype`]), against the stepper.
+//!    set-up and after the run (`--csv`: the same as one CSV line).
 //!
-//! `--anatomy` times the parts of a sparse step instead (factor size, one solve, one product, and
-//! the memory bandwidth that bounds a solve from below).
+//! `--verify NAME` runs a case beside the clarabel reference (`solver.qp = clarabel`) until ten
+//! steps with a QP have been compared, and prints the largest difference of the constrained
+//! displacements and the largest bound violation. `--scale` runs the size sweep instead (both elements, 10 × 7 to 100 × 50, the backend `auto`
+//! picks), as the CSV that `docs/scale/plot.py` reads; `--crossover` runs both backends on the
+//! meshes around `MODAL_AUTO_LIMIT`, where the choice between them is made. `--anatomy` times the
+//! parts of a sparse step (factor size with each ordering, one solve, one product, and the memory
+//! bandwidth that bounds a solve from below).
 
 use faer::linalg::matmul::matmul;
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
-use faer::sparse::SparseColMat;
-use faer::ColRef;
 use faer::{Accum, Col, Mat, Par};
-use plate_impact::contact::delassus::DEFAULT_DELASSUS_BUDGET;
+use plate_impact::contact::cholesky::{CholeskyAnalysis, CholeskyFactor};
 use plate_impact::contact::eliminated::EliminatedSystem;
-use plate_impact::contact::sparse_contact::{SparseContact, Subproblem};
-use plate_impact::contact::{BoundState, PdasSettings};
+use plate_impact::contact::ordering::nested_dissection;
 use plate_impact::element::ElementKind;
-use plate_impact::scene::{QpChoice, Scene};
-use plate_impact::scheme::{StepPath, Stepper};
+use plate_impact::scene::{LinearChoice, QpChoice, Scene};
+use plate_impact::scheme::{FreeSystem, StepPath, Stepper};
 use plate_impact::system::PlateSystem;
 use std::sync::Arc;
 use std::time::Instant;
@@ -49,12 +47,14 @@ fn mesh_scene(element: ElementKind, nx: usize, ny: usize) -> Scene {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    if let Some(k) = args.iter().position(|a| a == "--verify") {
+        let name = args.get(k + 1).expect("--verify needs a case name");
+        verify_against_clarabel(&case(name), 10);
+        return;
+    }
     if let Some(k) = args.iter().position(|a| a == "--case") {
         let name = args.get(k + 1).expect("--case needs a case name");
-        match name.split_once(':') {
-            Some((method, scene)) => run_prototype(&case(scene), method),
-            None => run_case(&case(name)),
-        }
+        run_case(&case(name), args.iter().any(|a| a == "--csv"));
         return;
     }
     if args.iter().any(|a| a == "--anatomy") {
@@ -63,11 +63,41 @@ fn main() {
         return;
     }
     if args.iter().any(|a| a == "--scale") {
-        println!("== cost against size: forced scene at 35 Hz, Δt = 1e-4 s");
-        println!("{}", CaseResult::HEADER);
+        // Cost against size: `forced-35hz`, Δt = 1e-4 s, 0.05 s, the backend `auto` picks.
+        println!("{}", CaseResult::CSV_HEADER);
         for element in ["argyris", "fvs"] {
-            for (nx, ny) in [(10, 7), (20, 10), (40, 20), (60, 30), (100, 50)] {
-                run_child(&format!("sweep-{element}-{nx}x{ny}"));
+            for (nx, ny) in [
+                (10, 7),
+                (14, 10),
+                (20, 10),
+                (30, 15),
+                (40, 20),
+                (60, 30),
+                (80, 40),
+                (100, 50),
+            ] {
+                run_child(&format!("sweep-{element}-{nx}x{ny}"), true);
+            }
+        }
+        return;
+    }
+    if args.iter().any(|a| a == "--crossover") {
+        // Both backends on the meshes around MODAL_AUTO_LIMIT.
+        println!("{}", CaseResult::CSV_HEADER);
+        for (element, sizes) in [
+            (
+                "argyris",
+                &[(10, 7), (14, 10), (20, 10), (24, 12), (28, 14)][..],
+            ),
+            (
+                "fvs",
+                &[(20, 10), (30, 15), (36, 18), (40, 20), (50, 25)][..],
+            ),
+        ] {
+            for (nx, ny) in sizes {
+                for backend in ["modal", "sparse"] {
+                    run_child(&format!("sweep-{element}-{nx}x{ny}-{backend}"), true);
+                }
             }
         }
         return;
@@ -174,7 +204,7 @@ fn main() {
     println!("== contact at scale (each case in a child process)");
     println!("{}", CaseResult::HEADER);
     let cases: &[&str] = if quick {
-        &["paper-argyris", "paper-fvs"]
+        &["paper-argyris", "paper-fvs", "fvs-60x30-all"]
     } else {
         &[
             "paper-argyris",
@@ -183,36 +213,11 @@ fn main() {
             "fvs-60x30-released",
             "fvs-60x30-pressed",
             "fvs-60x30-flat",
+            "fvs-60x30-all",
         ]
     };
     for name in cases {
-        run_child(name);
-    }
-    println!(
-        "== the sparse contact path of the next phase, prototyped here on the library's solvers \
-         (each case in a child process; compared with the stepper step by step)"
-    );
-    println!("{}", PROTOTYPE_HEADER);
-    let prototypes: &[&str] = if quick {
-        &["auto:fvs-60x30-flat"]
-    } else {
-        &[
-            "auto:fvs-60x30-flat",
-            "auto:fvs-60x30-pressed",
-            "auto:fvs-60x30-released",
-            "auto:argyris-60x30-forced",
-            "delassus:fvs-60x30-flat",
-            "eliminated:fvs-60x30-flat",
-            "delassus:fvs-60x30-pressed",
-            "eliminated:fvs-60x30-pressed",
-            "delassus:fvs-60x30-released",
-            "eliminated:fvs-60x30-released",
-            "delassus:argyris-60x30-forced",
-            "eliminated:argyris-60x30-forced",
-        ]
-    };
-    for name in prototypes {
-        run_child(name);
+        run_child(name, false);
     }
 }
 
@@ -225,8 +230,10 @@ struct Case {
 /// The named cases: `paper-argyris`, `paper-fvs` (the paper's meshes on `forced-35hz`, 1 s),
 /// `argyris-60x30-forced` (`forced-35hz` on Argyris 60 × 30, 0.05 s), the FVS 60 × 30 plate
 /// pressed onto the lower obstacle (upper obstacle off, no base motion, 0.02 s) by a 1 MPa preload
-/// and then released (`fvs-60x30-released`) or held (`fvs-60x30-pressed`), or by 10 MPa onto an
-/// obstacle 1 µm below (`fvs-60x30-flat`, nearly every vertex in contact), and `sweep-ELEMENT-NXxNY` (`forced-35hz` on that mesh, 0.02 s).
+/// and then released (`fvs-60x30-released`) or held (`fvs-60x30-pressed`), by 10 MPa onto an
+/// obstacle 1 µm below (`fvs-60x30-flat`, 1 798 of the 1 860 vertices in contact) or 10 nm below
+/// (`fvs-60x30-all`, every vertex in contact), and `sweep-ELEMENT-NXxNY[-BACKEND]`
+/// (`forced-35hz` on that mesh for 0.05 s, with the backend `auto` picks or the one named).
 fn case(name: &str) -> Case {
     let forced = |element, nx, ny, stop| {
         let mut s = mesh_scene(element, nx, ny);
@@ -237,22 +244,28 @@ fn case(name: &str) -> Case {
         "paper-argyris" => forced(ElementKind::Argyris, 10, 7, 1.0),
         "paper-fvs" => forced(ElementKind::Fvs, 14, 10, 1.0),
         "argyris-60x30-forced" => forced(ElementKind::Argyris, 60, 30, 0.05),
-        "fvs-60x30-released" | "fvs-60x30-pressed" | "fvs-60x30-flat" => {
+        "fvs-60x30-released" | "fvs-60x30-pressed" | "fvs-60x30-flat" | "fvs-60x30-all" => {
             let mut s = forced(ElementKind::Fvs, 60, 30, 0.02);
             s.base.amplitude = 0.0;
             s.obstacle.upper_enabled = false;
             s.initial.preload_pressure = -1e6;
+            // A cantilever pressed onto a flat obstacle δ below by a pressure p lies on it except
+            // over about (72Dδ/p)^¼ from the clamp.
+            let mut press = |pressure: f64, depth: f64| {
+                s.obstacle.lower = -depth;
+                s.initial.preload_pressure = -pressure;
+                s.load.pressure = -pressure;
+            };
             match name {
-                // Held by the preload pressure during the motion too: a cantilever pressed onto a
-                // flat obstacle 1 cm below lies on it over its last (72Dδ/p)^¼ = 5.7 cm only.
-                "fvs-60x30-pressed" => s.load.pressure = -1e6,
-                // The obstacle 1 µm below and 10 MPa: the contact starts 1.1 cm from the clamp,
-                // so nearly every vertex is in contact.
-                "fvs-60x30-flat" => {
-                    s.obstacle.lower = -1e-6;
-                    s.initial.preload_pressure = -1e7;
-                    s.load.pressure = -1e7;
-                }
+                // Held by the preload pressure during the motion too: 1 MPa onto the obstacle
+                // 1 cm below, in contact over the last 5.7 cm only (272 vertices).
+                "fvs-60x30-pressed" => press(1e6, 0.01),
+                // 10 MPa onto an obstacle 1 µm below: in contact from 1.1 cm off the clamp on,
+                // 1 798 vertices.
+                "fvs-60x30-flat" => press(1e7, 1e-6),
+                // 10 MPa onto an obstacle 10 nm below: (72Dδ/p)^¼ = 6 mm is less than one cell
+                // (6.7 mm), so all 1 860 vertices are in contact.
+                "fvs-60x30-all" => press(1e7, 1e-8),
                 _ => {}
             }
             s
@@ -260,14 +273,21 @@ fn case(name: &str) -> Case {
         sweep => {
             let parse = || -> Option<Scene> {
                 let rest = sweep.strip_prefix("sweep-")?;
-                let (element, size) = rest.split_once('-')?;
-                let (nx, ny) = size.split_once('x')?;
-                let element = match element {
+                let mut parts = rest.split('-');
+                let element = match parts.next()? {
                     "argyris" => ElementKind::Argyris,
                     "fvs" => ElementKind::Fvs,
                     _ => return None,
                 };
-                Some(forced(element, nx.parse().ok()?, ny.parse().ok()?, 0.02))
+                let (nx, ny) = parts.next()?.split_once('x')?;
+                let mut s = forced(element, nx.parse().ok()?, ny.parse().ok()?, 0.05);
+                s.solver.linear = match parts.next() {
+                    None => LinearChoice::Auto,
+                    Some("modal") => LinearChoice::Modal,
+                    Some("sparse") => LinearChoice::Sparse,
+                    Some(_) => return None,
+                };
+                Some(s)
             };
             parse().unwrap_or_else(|| panic!("unknown bench case {sweep}"))
         }
@@ -278,11 +298,16 @@ fn case(name: &str) -> Case {
     }
 }
 
-/// Runs `bench --case name` in a child process and passes its table row through.
-fn run_child(name: &str) {
+/// Runs `bench --case name` (with `--csv` if `csv`) in a child process and passes its output
+/// through.
+fn run_child(name: &str, csv: bool) {
     let exe = std::env::current_exe().expect("the bench knows its own path");
+    let mut args = vec!["--case", name];
+    if csv {
+        args.push("--csv");
+    }
     let out = std::process::Command::new(exe)
-        .args(["--case", name])
+        .args(args)
         .output()
         .expect("the bench can start itself");
     print!("{}", String::from_utf8_lossy(&out.stdout));
@@ -308,13 +333,19 @@ fn peak_memory_mib() -> f64 {
 struct CaseResult;
 
 impl CaseResult {
-    const HEADER: &'static str = "| case | backend | free dofs | constrained | assembly s | backend set-up s | \
-                                  steps | µs/step | contact-free steps (µs each) | QP steps (µs each) | \
-                                  most active | peak MiB after set-up | peak MiB at end |\n\
-                                  |---|---|---|---|---|---|---|---|---|---|---|---|---|";
+    /// The markdown header of the same columns as [`Self::CSV_HEADER`].
+    const HEADER: &'static str = "| case | element | nx | ny | backend | free dofs | constrained | \
+                                  assembly s | backend set-up s | steps | µs/step | contact-free \
+                                  steps | µs each | steps with a QP | µs each | most active | peak \
+                                  MiB after set-up | peak MiB at end |\n\
+                                  |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|";
+    /// The columns of one case.
+    const CSV_HEADER: &'static str = "case,element,nx,ny,backend,free_dofs,constrained,assembly_s,\
+                                      setup_s,steps,us_per_step,free_steps,free_us,qp_steps,qp_us,\
+                                      most_active,peak_setup_mib,peak_end_mib";
 }
 
-fn run_case(case: &Case) {
+fn run_case(case: &Case, csv: bool) {
     let s = &case.scene;
     let t = Instant::now();
     let plate = PlateSystem::new(s).unwrap();
@@ -346,192 +377,88 @@ fn run_case(case: &Case) {
     }
     let per_step = t.elapsed().as_secs_f64() / steps as f64;
     let mean_us = |(count, time): (usize, f64)| 1e6 * time / count.max(1) as f64;
-    println!(
-        "| {} | {:?} | {} | {} | {:.2} | {:.2} | {steps} | {:.1} | {} ({:.1}) | {} ({:.1}) | {most_active} | {:.0} | {:.0} |",
-        case.name,
-        stepper.linear_backend(),
-        stepper.free_dof_count(),
-        stepper.constrained_count(),
-        assembly,
-        setup,
-        1e6 * per_step,
-        free.0,
-        mean_us(free),
-        qp.0,
-        mean_us(qp),
-        memory_setup,
-        peak_memory_mib(),
-    );
+    let fields = [
+        case.name.clone(),
+        format!("{:?}", s.mesh.element),
+        s.mesh.nx.to_string(),
+        s.mesh.ny.to_string(),
+        format!("{:?}", stepper.linear_backend()),
+        stepper.free_dof_count().to_string(),
+        stepper.constrained_count().to_string(),
+        format!("{assembly:.3}"),
+        format!("{setup:.3}"),
+        steps.to_string(),
+        format!("{:.2}", 1e6 * per_step),
+        free.0.to_string(),
+        format!("{:.2}", mean_us(free)),
+        qp.0.to_string(),
+        format!("{:.2}", mean_us(qp)),
+        most_active.to_string(),
+        format!("{memory_setup:.1}"),
+        format!("{:.1}", peak_memory_mib()),
+    ];
+    if csv {
+        println!("{}", fields.join(","));
+    } else {
+        println!("| {} |", fields.join(" | "));
+    }
 }
 
-const PROTOTYPE_HEADER: &str =
-    "| method:case | steps | µs/step | contact-free steps (µs each) | QP steps (µs each) | \
-                                most active | factor work | peak MiB | max |u − u_stepper| (m) |\n\
-                                |---|---|---|---|---|---|---|---|---|";
-
-/// out ← out + α A x.
-fn add_product(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, out: &mut [f64]) {
-    sparse_dense_matmul(
-        faer::ColMut::from_slice_mut(out).as_mat_mut(),
-        Accum::Add,
-        a.as_ref(),
-        ColRef::from_slice(x).as_mat(),
-        alpha,
-        Par::Seq,
-    );
-}
-
-/// The contact steps of a sparse backend as the next phase will wire them, through
-/// [`SparseContact`], on the full dof vector with the clamp dofs eliminated (held at w = 0): the
-/// prediction x* = A⁻¹ b, and on a step that leaves the box the QP by the subproblem `method`
-/// names: `delassus` (PDAS on W with columns from the bounded cache, the active block's factor
-/// updated and kept across steps, then x = A⁻¹(b + Bᵀλ)), `eliminated` (PDAS in the primal
-/// variables, one sparse factorisation per new working set, reused while the set repeats) or
-/// `auto` (the rule of [`SparseContact`]). Restitution 0, as in the cases above. Each step's
-/// constrained displacements are compared with those of the library's stepper on the same scene.
-fn run_prototype(case: &Case, method: &str) {
+/// Runs `case` with the fast path and with clarabel on every constrained step side by side until
+/// `qp_steps` steps with a QP have been compared (or the case ends), and prints the largest
+/// difference of the displacements at the constrained vertices over all steps, and the largest
+/// violation of an obstacle by the fast path.
+fn verify_against_clarabel(case: &Case, qp_steps: usize) {
     let s = &case.scene;
     let plate = PlateSystem::new(s).unwrap();
-    let dt = s.solver.time_step;
-    let a = &plate.mass + &(&plate.stiffness * faer::Scale(0.5 * dt * dt));
-    let constrained: Vec<usize> = plate.constrained.iter().map(|&i| plate.free[i]).collect();
-    let m = constrained.len();
-    let n = a.nrows();
-    let mut m1 = vec![0.0; n];
-    add_product(&plate.mass, &plate.translation, 1.0, &mut m1);
-    // w_0 from the stepper's static preload (free-dof coordinates of its sparse backend).
-    let reference_state = Stepper::from_system(s, &plate, 0.0).unwrap().state();
-    let mut current = vec![0.0; n];
-    for (k, &d) in plate.free.iter().enumerate() {
-        current[d] = reference_state.current[k];
-    }
-    let mut previous = current.clone();
-    let a = Arc::new(a);
-    let mut contact = SparseContact::new(
-        a.clone(),
-        &plate.clamp,
-        &constrained,
-        DEFAULT_DELASSUS_BUDGET,
-    )
-    .unwrap();
-    match method {
-        "delassus" => contact.force(Subproblem::Delassus),
-        "eliminated" => contact.force(Subproblem::Eliminated),
-        "auto" => {}
-        other => panic!("unknown method {other}"),
-    }
-    let mut states = vec![BoundState::Free; m];
-    let (mut b, mut x_star, mut next) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let (mut lower, mut upper) = (vec![0.0; m], vec![0.0; m]);
-    let steps = (s.stop_time / dt).round() as usize;
-    let mut trajectory = Vec::with_capacity(steps);
-    let (mut free, mut constrained_steps) = ((0usize, 0.0f64), (0usize, 0.0f64));
-    let mut most_active = 0;
-    let mut bases = [0.0, 0.0];
-    let settings = PdasSettings::default();
-    let t = Instant::now();
-    for step in 1..=steps {
-        let t_step = Instant::now();
-        let z = s.builtin_base(step as f64 * dt);
-        let p = s.load.pressure;
-        let start = step == 1;
-        let [z_prev, z_curr] = bases;
-        // The scheme's forcing (start step: v_0 = 0, the load read as (p_1 + p_0)/2).
-        let (load, base) = if start {
-            (0.25 * dt * dt * 2.0 * p, -(z - z_curr))
-        } else {
-            (0.5 * dt * dt * 2.0 * p, -(z - 2.0 * z_curr + z_prev))
-        };
-        for ((bi, &f), &mi) in b.iter_mut().zip(&plate.unit_load).zip(&m1) {
-            *bi = load * f + base * mi;
-        }
-        if start {
-            add_product(&plate.mass, &current, 1.0, &mut b);
-        } else {
-            add_product(&plate.mass, &current, 2.0, &mut b);
-            add_product(&a, &previous, -1.0, &mut b);
-        }
-        contact.solve_unconstrained(&b, &mut x_star).unwrap();
-        lower.fill(s.lower_obstacle().map_or(f64::NEG_INFINITY, |g| g - z));
-        upper.fill(s.upper_obstacle().map_or(f64::INFINITY, |g| g - z));
-        let feasible = (0..m).all(|i| {
-            let y = x_star[constrained[i]];
-            y >= lower[i] && y <= upper[i]
-        });
-        if feasible {
-            next.copy_from_slice(&x_star);
-            states.fill(BoundState::Free);
-        } else {
-            let report = contact
-                .solve(
-                    &b,
-                    &x_star,
-                    &lower,
-                    &upper,
-                    &mut states,
-                    &settings,
-                    &mut next,
-                )
-                .unwrap();
-            assert!(report.status.is_solved(), "{report:?}");
-        }
-        std::mem::swap(&mut previous, &mut current);
-        std::mem::swap(&mut current, &mut next);
-        bases = [z_curr, z];
-        let elapsed = t_step.elapsed().as_secs_f64();
-        let slot = if feasible {
-            &mut free
-        } else {
-            &mut constrained_steps
-        };
-        slot.0 += 1;
-        slot.1 += elapsed;
-        most_active = most_active.max(states.iter().filter(|s| s.is_active()).count());
-        trajectory.push(
-            constrained
-                .iter()
-                .map(|&c| z + current[c])
-                .collect::<Vec<f64>>(),
+    let mut fast = Stepper::from_system(s, &plate, 0.0).unwrap();
+    let mut reference_scene = s.clone();
+    reference_scene.solver.qp = QpChoice::Clarabel;
+    let mut reference = Stepper::from_system(&reference_scene, &plate, 0.0).unwrap();
+    let steps = (s.stop_time / s.solver.time_step).round() as usize;
+    let (mut compared, mut worst, mut violation, mut most_active) = (0, 0.0_f64, 0.0_f64, 0);
+    // The largest force difference, relative to the largest reference force of that step.
+    let mut force_difference = 0.0_f64;
+    for n in 1..=steps {
+        let z = s.builtin_base(n as f64 * s.solver.time_step);
+        let report = fast.step(z).unwrap();
+        reference.step(z).unwrap();
+        let (u, v) = (
+            fast.constrained_displacements(),
+            reference.constrained_displacements(),
         );
-    }
-    let per_step = t.elapsed().as_secs_f64() / steps as f64;
-    let memory = peak_memory_mib();
-    let (c, f) = (
-        contact.delassus().stats(),
-        contact.active_set().factor().stats(),
-    );
-    let work = format!(
-        "{} columns in {} solves, {} full factorisations, {} appended, {} deleted, {} reused; \
-         {} sparse factorisations",
-        c.computed,
-        c.blocks,
-        f.full,
-        f.appended,
-        f.deleted,
-        f.reused,
-        contact.eliminated().stats().factorizations - 1
-    );
-    // The library's stepper on the same scene, for the trajectory check.
-    let mut reference = Stepper::from_system(s, &plate, 0.0).unwrap();
-    let mut worst = 0.0_f64;
-    for (step, expected) in trajectory.iter().enumerate() {
-        reference
-            .step(s.builtin_base((step + 1) as f64 * dt))
-            .unwrap();
-        for (u, v) in reference.constrained_displacements().iter().zip(expected) {
-            worst = worst.max((u - v).abs());
+        for (a, b) in u.iter().zip(&v) {
+            worst = worst.max((a - b).abs());
+        }
+        for &a in &u {
+            let below = s.lower_obstacle().map_or(0.0, |g| g - a);
+            let above = s.upper_obstacle().map_or(0.0, |g| a - g);
+            violation = violation.max(below).max(above);
+        }
+        let (f, g) = (fast.contact_forces(), reference.contact_forces());
+        let scale = g.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        if scale > 0.0 {
+            let d = f
+                .iter()
+                .zip(g)
+                .fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+            force_difference = force_difference.max(d / scale);
+        }
+        most_active = most_active.max(report.active);
+        let done = n == steps || {
+            compared += usize::from(report.path != StepPath::Unconstrained);
+            compared == qp_steps
+        };
+        if done {
+            println!(
+                "{}: {n} steps, {compared} with a QP (up to {most_active} contacts): largest \
+                 |u − u_clarabel| {worst:.1e} m, largest bound violation {violation:.1e} m, \
+                 largest force difference {force_difference:.1e} of the step's largest force",
+                case.name
+            );
+            return;
         }
     }
-    let mean_us = |(count, time): (usize, f64)| 1e6 * time / count.max(1) as f64;
-    println!(
-        "| {method}:{} | {steps} | {:.1} | {} ({:.1}) | {} ({:.1}) | {most_active} | {work} | {memory:.0} | {worst:.1e} |",
-        case.name,
-        1e6 * per_step,
-        free.0,
-        mean_us(free),
-        constrained_steps.0,
-        mean_us(constrained_steps),
-    );
 }
 
 /// Median seconds of `reps` runs of `f`.
@@ -548,8 +475,6 @@ fn time_median(reps: usize, mut f: impl FnMut()) -> f64 {
 }
 
 fn solve_anatomy() {
-    use faer::linalg::solvers::Solve;
-    use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymmetricOrdering};
     // Bandwidth: summing a 256 MiB array with eight independent partial sums (so that the adds
     // do not wait on each other), the way a triangular solve streams its factor.
     let big = vec![1.0_f64; 32 << 20];
@@ -569,8 +494,9 @@ fn solve_anatomy() {
         bandwidth / 1e9
     );
     println!(
-        "| mesh | dofs | nnz(A) | nnz(L) | L MiB | numeric factorisation ms | one solve ms | \
-         streaming L twice ms | product A·x ms | refined solve ms |\n|---|---|---|---|---|---|---|---|---|---|"
+        "| mesh | free dofs | nnz(A) | ordering | nnz(L) | L MiB | numeric factorisation ms | \
+         one solve ms | streaming L twice ms | 32 solves ms | product A·x ms | refined solve ms |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for (element, nx, ny) in [
         (ElementKind::Fvs, 60, 30),
@@ -580,39 +506,56 @@ fn solve_anatomy() {
     ] {
         let s = mesh_scene(element, nx, ny);
         let plate = PlateSystem::new(&s).unwrap();
-        let dt = s.solver.time_step;
-        let a = &plate.mass + &(&plate.stiffness * faer::Scale(0.5 * dt * dt));
+        let free = FreeSystem::new(&s, &plate);
+        let a = &free.system;
         let n = a.nrows();
-        let symbolic = factorize_symbolic_cholesky(
-            a.symbolic(),
-            faer::Side::Lower,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .unwrap();
-        let entries = symbolic.len_val();
-        let factor_time = time_median(3, || {
-            std::hint::black_box(a.sp_cholesky(faer::Side::Lower).unwrap());
-        });
-        let llt = a.sp_cholesky(faer::Side::Lower).unwrap();
-        let mut x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
-        let solve = time_median(21, || {
-            llt.solve_in_place(faer::ColMut::from_slice_mut(&mut x).as_mat_mut());
-        });
-        let mut y = vec![0.0; n];
-        let product = time_median(21, || add_product(&a, &x, 1.0, &mut y));
-        // What a step pays: the solve with one step of iterative refinement, clamp eliminated.
-        let mut system = EliminatedSystem::new(Arc::new(a.clone()), &plate.clamp, &[]).unwrap();
-        let refined = time_median(21, || system.solve_unconstrained(&y, &mut x).unwrap());
-        println!(
-            "| {element:?} {nx}×{ny} | {n} | {} | {entries} | {:.1} | {:.1} | {:.2} | {:.2} | {:.3} | {:.2} |",
-            a.compute_nnz(),
-            (entries * 8) as f64 / (1 << 20) as f64,
-            1e3 * factor_time,
-            1e3 * solve,
-            1e3 * 2.0 * (entries * 8) as f64 / bandwidth,
-            1e3 * product,
-            1e3 * refined,
-        );
+        let nested = nested_dissection(&free.nodes);
+        for (name, proposed) in [
+            ("minimum degree", None),
+            ("nested dissection", Some(&nested[..])),
+        ] {
+            // With a proposed ordering the analysis keeps the smaller factor of the two; report
+            // the proposed one's own size.
+            let analysis = CholeskyAnalysis::new(a.symbolic(), proposed).unwrap();
+            if proposed.is_some()
+                && analysis.ordering() != plate_impact::contact::cholesky::FillOrdering::Proposed
+            {
+                println!(
+                    "| {element:?} {nx}×{ny} | {n} | | {name} | more fill than minimum degree | |"
+                );
+                continue;
+            }
+            let entries = analysis.factor_entries();
+            let factor_time = time_median(3, || {
+                std::hint::black_box(
+                    CholeskyFactor::new(analysis.clone(), a.as_ref().as_ref()).unwrap(),
+                );
+            });
+            let mut factor = CholeskyFactor::new(analysis.clone(), a.as_ref().as_ref()).unwrap();
+            let mut x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+            let solve = time_median(21, || {
+                factor.solve_in_place(faer::ColMut::from_slice_mut(&mut x).as_mat_mut());
+            });
+            let mut block = Mat::<f64>::from_fn(n, 32, |i, j| ((i + j) as f64).sin());
+            let block_solve = time_median(5, || factor.solve_in_place(block.as_mut()));
+            let mut y = vec![0.0; n];
+            let product = time_median(21, || {
+                plate_impact::contact::add_product(a.as_ref().as_ref(), &x, 1.0, &mut y)
+            });
+            // What a step pays: the solve with one step of iterative refinement.
+            let mut system = EliminatedSystem::new(Arc::clone(a), analysis, &[]).unwrap();
+            let refined = time_median(21, || system.solve_unconstrained(&y, &mut x).unwrap());
+            println!(
+                "| {element:?} {nx}×{ny} | {n} | {} | {name} | {entries} | {:.1} | {:.1} | {:.2} | {:.2} | {:.1} | {:.3} | {:.2} |",
+                a.compute_nnz(),
+                (entries * 8) as f64 / (1 << 20) as f64,
+                1e3 * factor_time,
+                1e3 * solve,
+                1e3 * 2.0 * (entries * 8) as f64 / bandwidth,
+                1e3 * block_solve,
+                1e3 * product,
+                1e3 * refined,
+            );
+        }
     }
 }

@@ -31,7 +31,7 @@ fn mass_degree(kind: ElementKind) -> usize {
 }
 
 /// Vertex dofs per vertex.
-fn dofs_per_vertex(kind: ElementKind) -> usize {
+pub fn dofs_per_vertex(kind: ElementKind) -> usize {
     match kind {
         ElementKind::Argyris => 6,
         ElementKind::Fvs => 3,

@@ -15,14 +15,16 @@
 //!   of them is sorted), where nnz ≈ 45 n (Argyris) or 27 n (FVS) entries over all n dofs
 //!   (measured: 44.7 n and 26.1 n on 60 × 30, 45.1 n and 26.5 n on 100 × 50);
 //! * the assembled system: M and K over all dofs and M_ff, K_ff, A_ff over the free ones, five
-//!   sparse matrices;
+//!   sparse matrices, and what forming them and analysing A_ff leaves behind
+//!   ([`SET_UP_TRANSIENT`] bytes per entry of A_ff);
 //! * the modal backend (up to [`crate::scheme::MODAL_AUTO_LIMIT`] free dofs with `auto`): the dense
 //!   generalized eigenproblem holds [`MODAL_DENSE_COPIES`] n × n matrices at its peak, then
 //!   C = BΦ and D⁻¹Cᵀ (2 m n) and W (m²);
 //! * the sparse backend: the Cholesky factor of A_ff, nnz(L) ≈ L₀ (n / n₀)^1.25 with (n₀, L₀) the
-//!   factor measured with faer's AMD ordering on the 100 × 50 mesh (Argyris: 46 056 dofs,
-//!   9 067 318 entries; FVS: 15 453 dofs, 1 404 531 entries): the fill grows a little faster than
-//!   n (exponent 1.19–1.23 between 60 × 30 and 100 × 50), and 1.25 errs on the large side above
+//!   factor measured with the ordering the backend keeps (nested dissection,
+//!   [`crate::contact::ordering`]) on the 100 × 50 mesh (Argyris: 45 751 free dofs, 7 902 951
+//!   entries; FVS: 15 300 free dofs, 1 414 620 entries): the fill grows a little faster than n
+//!   (exponent 1.19–1.20 between 60 × 30 and 100 × 50), and 1.25 errs on the large side above
 //!   the anchor;
 //! * contact, at worst: on the modal path the factor of an active block of all m vertices (m²
 //!   values); on the sparse path ([`crate::contact::sparse_contact`]) the Delassus columns within
@@ -39,13 +41,20 @@ use crate::contact::sparse_contact::delassus_limit;
 use crate::element::ElementKind;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Scene};
-use crate::scheme::MODAL_AUTO_LIMIT;
+use crate::scheme::resolve_linear;
 
 /// n × n dense matrices alive at the peak of the modal set-up (dense M_ff and K_ff, the Cholesky
 /// factor of K_ff, the transformed pencil and its symmetric copy, the eigensolver's vectors and
 /// workspace, the mode shapes): the peak resident memory measured 8.1 n² values at n = 1 951
 /// (Argyris 20 × 10), the rest of the process included.
 pub const MODAL_DENSE_COPIES: f64 = 8.0;
+
+/// Bytes per entry of A_ff that the set-up holds beyond the matrices it keeps, measured as the
+/// resident memory after `Stepper::from_system` on FVS 40 × 20 to 100 × 50 (where the assembly is
+/// not the peak): the two scaled copies of M_ff and K_ff that forming A makes, and the patterns
+/// of the two symbolic analyses (minimum degree and nested dissection), which the allocator
+/// keeps as its own free memory once they are released.
+pub const SET_UP_TRANSIENT: f64 = 48.0;
 
 /// Memory budget a set-up may need before it is refused: 4 GiB, a sixth of this 24 GiB machine.
 pub const DEFAULT_MEMORY_BUDGET: usize = 4 << 30;
@@ -111,19 +120,15 @@ impl MemoryEstimate {
         let size = ProblemSize::of(scene);
         let (n, m) = (size.free_dofs as f64, size.constrained as f64);
         let (entries_per_dof, cell_dofs, n0, l0) = match scene.mesh.element {
-            ElementKind::Argyris => (45.0, 21.0, 46_056.0, 9_067_318.0),
-            ElementKind::Fvs => (27.0, 12.0, 15_453.0, 1_404_531.0),
+            ElementKind::Argyris => (45.0, 21.0, 45_751.0, 7_902_951.0),
+            ElementKind::Fvs => (27.0, 12.0, 15_300.0, 1_414_620.0),
         };
-        let backend = match scene.solver.linear {
-            LinearChoice::Auto if size.free_dofs <= MODAL_AUTO_LIMIT => LinearChoice::Modal,
-            LinearChoice::Auto => LinearChoice::Sparse,
-            choice => choice,
-        };
+        let backend = resolve_linear(scene.solver.linear, size.free_dofs);
         let nnz_all = entries_per_dof * size.dofs as f64;
         let nnz_free = entries_per_dof * n;
         let triplets_per_matrix = size.cells as f64 * cell_dofs * cell_dofs;
         let assembly = triplets_per_matrix * (2.0 * 24.0 + 8.0) + 2.0 * nnz_all * 16.0;
-        let system = 2.0 * nnz_all * 16.0 + 3.0 * nnz_free * 16.0;
+        let system = 2.0 * nnz_all * 16.0 + 3.0 * nnz_free * 16.0 + nnz_free * SET_UP_TRANSIENT;
         let (backend_data, contact) = match backend {
             // W is part of the modal data; the active block's factor may reach m × m.
             LinearChoice::Modal => (
@@ -245,16 +250,22 @@ mod tests {
     #[test]
     fn the_setup_estimate_follows_the_measured_peaks() {
         let measured_mib = [
-            (ElementKind::Argyris, 10, 7, 40.0),
-            (ElementKind::Argyris, 20, 10, 247.0),
-            (ElementKind::Argyris, 40, 20, 53.0),
-            (ElementKind::Argyris, 60, 30, 114.0),
-            (ElementKind::Argyris, 100, 50, 307.0),
+            (ElementKind::Argyris, 10, 7, 41.1),
+            (ElementKind::Argyris, 14, 10, 128.2),
+            (ElementKind::Argyris, 20, 10, 249.0),
+            (ElementKind::Argyris, 30, 15, 31.6),
+            (ElementKind::Argyris, 40, 20, 52.8),
+            (ElementKind::Argyris, 60, 30, 115.2),
+            (ElementKind::Argyris, 80, 40, 198.3),
+            (ElementKind::Argyris, 100, 50, 309.5),
+            (ElementKind::Fvs, 10, 7, 9.3),
             (ElementKind::Fvs, 14, 10, 20.0),
             (ElementKind::Fvs, 20, 10, 35.0),
-            (ElementKind::Fvs, 40, 20, 14.0),
-            (ElementKind::Fvs, 60, 30, 25.0),
-            (ElementKind::Fvs, 100, 50, 63.0),
+            (ElementKind::Fvs, 30, 15, 136.6),
+            (ElementKind::Fvs, 40, 20, 14.4),
+            (ElementKind::Fvs, 60, 30, 24.9),
+            (ElementKind::Fvs, 80, 40, 42.7),
+            (ElementKind::Fvs, 100, 50, 66.1),
         ];
         // The process's own peak before any set-up: 5 MiB, measured on a 1 × 1 mesh.
         let process = 5.0;
@@ -287,5 +298,26 @@ mod tests {
         assert!(MemoryEstimate::of(&scene(ElementKind::Fvs, 14, 10))
             .check(DEFAULT_MEMORY_BUDGET)
             .is_ok());
+    }
+
+    /// The stepper refuses such a scene before assembling anything (which would take minutes and
+    /// tens of GiB for 400 × 400 Argyris), with the estimate's message; meshes within the budget
+    /// set up.
+    #[test]
+    fn the_stepper_refuses_a_scene_over_the_budget() {
+        let err = match crate::scheme::Stepper::new(&scene(ElementKind::Argyris, 400, 400), 0.0) {
+            Ok(_) => panic!("a 400 × 400 Argyris mesh must be refused"),
+            Err(err) => err.to_string(),
+        };
+        let expected = MemoryEstimate::of(&scene(ElementKind::Argyris, 400, 400))
+            .check(DEFAULT_MEMORY_BUDGET)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(err, expected);
+        assert!(
+            err.contains("largest part") && err.contains("budget"),
+            "{err}"
+        );
+        assert!(crate::scheme::Stepper::new(&scene(ElementKind::Fvs, 14, 10), 0.0).is_ok());
     }
 }

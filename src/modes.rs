@@ -17,7 +17,7 @@ use crate::error::Error;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
 use faer::{Mat, Par, Side};
 
 /// Eigenpairs of the clamped plate, sorted by increasing ω².
@@ -43,7 +43,7 @@ impl Modes {
 /// `keep` must hold distinct indices below A's order. faer builds it from A's entries with the
 /// dropped rows and columns given negative indices, which it ignores.
 pub fn sparse_restriction(
-    a: &SparseColMat<usize, f64>,
+    a: SparseColMatRef<'_, usize, f64>,
     keep: &[usize],
 ) -> SparseColMat<usize, f64> {
     let mut position = vec![-1_isize; a.nrows()];
@@ -60,7 +60,7 @@ pub fn sparse_restriction(
 
 /// The submatrix A[keep, keep] of a sparse matrix, dense (see [`sparse_restriction`]).
 pub fn dense_restriction(a: &SparseColMat<usize, f64>, keep: &[usize]) -> Mat<f64> {
-    sparse_restriction(a, keep).to_dense()
+    sparse_restriction(a.as_ref(), keep).to_dense()
 }
 
 /// All eigenpairs of K φ = ω² M φ for dense symmetric positive definite K and M.

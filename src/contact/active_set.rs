@@ -90,10 +90,10 @@ pub struct DelassusWorkingSet<'a, D: Delassus + ?Sized> {
 }
 
 impl<'a, D: Delassus + ?Sized> DelassusWorkingSet<'a, D> {
-    /// The subproblems of W with unconstrained values `y_star`, in `work` (whose factor is kept if
-    /// it belongs to the same `w`, see [`Delassus::identity`]).
+    /// The subproblems of W with unconstrained values `y_star`, in `work` (whose factor starts
+    /// empty: see [`super::delassus`] for why none is kept from an earlier solve).
     pub fn new(w: &'a mut D, y_star: &'a [f64], work: &'a mut DelassusWorkspace) -> Self {
-        work.factor.adopt(&*w);
+        work.factor.reset(w.dim());
         work.bound_of.resize(w.dim(), 0.0);
         DelassusWorkingSet { w, y_star, work }
     }
@@ -225,6 +225,9 @@ pub struct PdasReport {
     pub safeguard_iterations: usize,
     /// Number of active indices at the end.
     pub active: usize,
+    /// tol·s of [`PdasSettings::tol`] (the units of y): when the status is solved, every value
+    /// of the answer's y lies within it of its bounds (active ones on them).
+    pub bound_tolerance: f64,
 }
 
 /// The owned result of [`solve_box_lcp`].
@@ -261,10 +264,9 @@ pub fn solve_box_lcp<D: Delassus + ?Sized>(
     }
 }
 
-/// The active-set solver with its reusable workspace (see the module docs). Keep one per run: the
-/// factor of the active block is reused from one solve to the next when the operator has an
-/// [`identity`](Delassus::identity), and after the first steps `solve` allocates little unless
-/// the active set grows past its largest size so far.
+/// The active-set solver with its reusable workspace (see the module docs). Keep one per run:
+/// after the first steps `solve` allocates little unless the active set grows past its largest
+/// size so far. The factor of the active block is updated within a solve only.
 #[derive(Clone, Debug, Default)]
 pub struct ActiveSetSolver {
     lambda: Vec<f64>,
@@ -355,6 +357,7 @@ impl ActiveSetSolver {
             iterations: 0,
             safeguard_iterations: 0,
             active: 0,
+            bound_tolerance: f64::INFINITY,
         };
         if y_star.len() != m || lower.len() != m || upper.len() != m || states.len() != m {
             return report;
@@ -383,6 +386,7 @@ impl ActiveSetSolver {
             }
         }
         let tol_y = settings.tol * scale.max(f64::MIN_POSITIVE);
+        report.bound_tolerance = tol_y;
 
         // PDAS proper.
         let mut hash = hash_states(states);

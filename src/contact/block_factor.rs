@@ -16,8 +16,8 @@
 //!
 //! A full factorisation costs k³/3 flops against about k² per changed index, so a PDAS iteration
 //! that moves a few indices costs O(k²) instead of O(k³), and a working set that repeats from one
-//! time step to the next (a plate resting on an obstacle) costs no factorisation at all when the
-//! operator has an [`identity`](super::Delassus::identity).
+//! time step to the next (a plate resting on an obstacle) is factored once per step (the factor is
+//! not kept across solves, see [`super::delassus`]).
 
 use super::Delassus;
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -43,8 +43,7 @@ pub struct FactorStats {
     pub appended: usize,
     /// Indices deleted by a downdate.
     pub deleted: usize,
-    /// Synchronisations that found the factor already up to date (within a solve, or from the
-    /// previous solve of the same operator).
+    /// Synchronisations within a solve that found the factor already up to date.
     pub reused: usize,
 }
 
@@ -57,8 +56,6 @@ pub struct ActiveBlockFactor {
     position: Vec<usize>,
     /// D on the diagonal and L strictly below, in the leading k × k block (k = `order.len()`).
     ld: Mat<f64>,
-    /// Identity of the operator the factor belongs to (see [`Delassus::identity`]).
-    owner: Option<u64>,
     /// Updates since the last full factorisation.
     updates: usize,
     stats: FactorStats,
@@ -75,7 +72,6 @@ impl Default for ActiveBlockFactor {
             order: Vec::new(),
             position: Vec::new(),
             ld: Mat::zeros(0, 0),
-            owner: None,
             updates: 0,
             stats: FactorStats::default(),
             column: Vec::new(),
@@ -97,18 +93,13 @@ impl ActiveBlockFactor {
         self.stats
     }
 
-    /// Forgets the factor unless it belongs to `w` (same [`Delassus::identity`], same size):
-    /// call once at the start of every solve, before [`Self::sync`].
-    pub fn adopt<D: Delassus + ?Sized>(&mut self, w: &D) {
-        let m = w.dim();
-        let same = self.owner.is_some() && self.owner == w.identity() && self.position.len() == m;
-        if !same {
-            self.order.clear();
-            self.position.clear();
-            self.position.resize(m, usize::MAX);
-            self.owner = w.identity();
-            self.updates = 0;
-        }
+    /// Forgets the factor and prepares for an operator of dimension `m`: call once at the start
+    /// of every solve, before [`Self::sync`].
+    pub fn reset(&mut self, m: usize) {
+        self.order.clear();
+        self.position.clear();
+        self.position.resize(m, usize::MAX);
+        self.updates = 0;
         self.marked.clear();
         self.marked.resize(m, false);
     }

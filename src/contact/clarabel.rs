@@ -18,6 +18,7 @@ use ::clarabel::solver::{
 };
 
 use super::{add_product, BoundState, BoxQp, QpSolution};
+use crate::modes::sparse_restriction;
 use crate::Error;
 
 /// Target of every accuracy tolerance in [`reference_settings`] (scaled units, see the module docs).
@@ -115,27 +116,13 @@ fn solve_on_active_set(
         }
     }
     let free: Vec<usize> = (0..n).filter(|&j| fixed[j].is_none()).collect();
-    let mut position = vec![usize::MAX; n];
-    for (k, &j) in free.iter().enumerate() {
-        position[j] = k;
-    }
     let mut x: Vec<f64> = (0..n).map(|j| fixed[j].unwrap_or(0.0)).collect();
-    let mut rhs: Vec<f64> = free.iter().map(|&j| qp.b[j]).collect();
-    let mut triplets = Vec::new();
+    // A_FF x_F = b_F − A_F𝒜 g: the second term is (A x)_F with x zero on F.
     let a = qp.a;
-    for j in 0..n {
-        let range = a.col_range(j);
-        for (&i, &v) in a.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
-            match (position[i], fixed[j]) {
-                (usize::MAX, _) => {}
-                (pi, Some(xj)) => rhs[pi] -= v * xj,
-                (pi, None) => triplets.push(faer::sparse::Triplet::new(pi, position[j], v)),
-            }
-        }
-    }
-    let reduced =
-        faer::sparse::SparseColMat::try_new_from_triplets(free.len(), free.len(), &triplets)
-            .ok()?;
+    let mut bound_part = vec![0.0; n];
+    add_product(a, &x, 1.0, &mut bound_part);
+    let mut rhs: Vec<f64> = free.iter().map(|&j| qp.b[j] - bound_part[j]).collect();
+    let reduced = sparse_restriction(a, &free);
     let factor = reduced.sp_cholesky(faer::Side::Lower).ok()?;
     factor.solve_in_place(faer::ColMut::from_slice_mut(&mut rhs).as_mat_mut());
     for (k, &j) in free.iter().enumerate() {

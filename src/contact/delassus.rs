@@ -7,11 +7,10 @@
 //! budget stated in bytes: when the columns it may hold are all in use, the least recently used
 //! one is dropped and recomputed if it is needed again.
 //!
-//! W is constant while A and the constrained dofs are (a whole run). An operator may say so with an
-//! [`Delassus::identity`]: two calls that see the same identity see the same W, which lets the
-//! active-set solver keep its factorisation of an active block from one time step to the next.
-
-use std::sync::atomic::{AtomicU64, Ordering};
+//! W is constant while A and the constrained dofs are (a whole run), yet the active-set solver
+//! factors its active block afresh at every solve: a factor kept from earlier steps would make a
+//! step's round-off depend on the steps before it, which the stepper's saved state does not hold,
+//! and a restored state must continue bit for bit as the run it was taken from.
 
 /// Column access to the Delassus operator W = B A⁻¹ Bᵀ (m × m, symmetric positive definite).
 pub trait Delassus {
@@ -20,12 +19,6 @@ pub trait Delassus {
     /// Column j of W, of length m. May compute and cache it on first access; the slice is valid
     /// until the next call.
     fn column(&mut self, j: usize) -> &[f64];
-    /// An identifier of the values of W, if they never change: every operator that returns the
-    /// same `Some(id)` has the same entries, now and at every later call. `None` (the default)
-    /// promises nothing, and no factorisation is reused across solves.
-    fn identity(&self) -> Option<u64> {
-        None
-    }
     /// A hint that the columns `columns` are about to be read: an operator that computes columns
     /// may compute them together (one block solve streams the factor of A once for all of them).
     /// The default does nothing.
@@ -34,18 +27,11 @@ pub trait Delassus {
     }
 }
 
-/// A fresh identity for [`Delassus::identity`], distinct from every other one of this process.
-pub fn new_identity() -> u64 {
-    static NEXT: AtomicU64 = AtomicU64::new(1);
-    NEXT.fetch_add(1, Ordering::Relaxed)
-}
-
-/// A precomputed dense W, column-major. Its values never change, so it has an identity.
+/// A precomputed dense W, column-major.
 #[derive(Clone, Debug)]
 pub struct DenseDelassus {
     dim: usize,
     values: Vec<f64>,
-    identity: u64,
 }
 
 impl DenseDelassus {
@@ -55,11 +41,7 @@ impl DenseDelassus {
     /// If `values.len() != dim * dim`.
     pub fn new(dim: usize, values: Vec<f64>) -> Self {
         assert_eq!(values.len(), dim * dim, "DenseDelassus: need dim² values");
-        DenseDelassus {
-            dim,
-            values,
-            identity: new_identity(),
-        }
+        DenseDelassus { dim, values }
     }
 
     /// W with entries `entry(i, j)`.
@@ -77,6 +59,11 @@ impl DenseDelassus {
     pub fn get(&self, i: usize, j: usize) -> f64 {
         self.values[i + j * self.dim]
     }
+
+    /// Column j.
+    pub fn col(&self, j: usize) -> &[f64] {
+        &self.values[j * self.dim..(j + 1) * self.dim]
+    }
 }
 
 impl Delassus for DenseDelassus {
@@ -85,11 +72,18 @@ impl Delassus for DenseDelassus {
     }
 
     fn column(&mut self, j: usize) -> &[f64] {
-        &self.values[j * self.dim..(j + 1) * self.dim]
+        self.col(j)
+    }
+}
+
+/// A shared W read in place (for instance from data several steppers share).
+impl Delassus for &DenseDelassus {
+    fn dim(&self) -> usize {
+        self.dim
     }
 
-    fn identity(&self) -> Option<u64> {
-        Some(self.identity)
+    fn column(&mut self, j: usize) -> &[f64] {
+        self.col(j)
     }
 }
 
@@ -153,13 +147,17 @@ pub struct DelassusCache<F> {
     last_use: Vec<u64>,
     clock: u64,
     stats: CacheStats,
-    identity: u64,
     /// Workspace of [`Delassus::prefetch`].
     batch: Vec<f64>,
     missing: Vec<usize>,
 }
 
 impl<F: ColumnSource> DelassusCache<F> {
+    /// The column source.
+    pub fn source(&self) -> &F {
+        &self.compute
+    }
+
     /// The column source (to solve with the same factor of A, for instance).
     pub fn source_mut(&mut self) -> &mut F {
         &mut self.compute
@@ -179,7 +177,6 @@ impl<F: ColumnSource> DelassusCache<F> {
             last_use: Vec::new(),
             clock: 0,
             stats: CacheStats::default(),
-            identity: new_identity(),
             batch: Vec::new(),
             missing: Vec::new(),
         }
@@ -212,11 +209,6 @@ impl<F: ColumnSource> DelassusCache<F> {
         self.capacity
     }
 
-    /// Whether column j is held.
-    pub fn holds(&self, j: usize) -> bool {
-        self.slot_of[j] < PENDING
-    }
-
     /// Counts of computed, evicted and held columns.
     pub fn stats(&self) -> CacheStats {
         CacheStats {
@@ -244,10 +236,6 @@ impl<F: ColumnSource> Delassus for DelassusCache<F> {
         }
         self.last_use[slot] = self.clock;
         &self.store[slot * m..(slot + 1) * m]
-    }
-
-    fn identity(&self) -> Option<u64> {
-        Some(self.identity)
     }
 
     fn prefetch(&mut self, columns: &[usize]) {

@@ -1,17 +1,19 @@
 //! The working-set subproblem in the primal variables, for a sparse A: the active dofs are held at
 //! their bounds and eliminated, and the others solve the reduced system.
 //!
-//! For the QP min ½ xᵀ A x − bᵀ x with the dofs E fixed (E = the always-fixed dofs, e.g. a clamp at
-//! zero, and the constrained dofs c_i of the working set 𝒜 at their bound values g), the free dofs F
-//! solve A_FF x_F = b_F − A_FE x_E, and the multipliers are λ_i = (A x − b)_{c_i} on 𝒜: the same λ
-//! and y = B x as the Delassus subproblem W_𝒜𝒜 λ_𝒜 = g − y*_𝒜, without forming any column of W.
+//! For the QP min ½ xᵀ A x − bᵀ x with the dofs E (the constrained dofs c_i of the working set 𝒜)
+//! fixed at their bound values g, the other dofs F solve A_FF x_F = b_F − A_FE g, and the
+//! multipliers are λ_i = (A x − b)_{c_i} on 𝒜: the same λ and y = B x as the Delassus subproblem
+//! W_𝒜𝒜 λ_𝒜 = g − y*_𝒜, without forming any column of W.
 //!
 //! A_FF is factored as the matrix of A's own sparsity pattern whose rows and columns in E are
-//! replaced by those of the diagonal matrix diag(A_jj): the symbolic analysis (ordering, elimination
-//! tree, supernodes) of A is done once, and a change of working set costs one numeric sparse
-//! Cholesky factorisation; a working set that repeats from one step to the next (a plate resting on
-//! an obstacle) reuses the factor and costs two triangular solves. Each solve is followed by one
-//! step of iterative refinement on the reduced system.
+//! replaced by those of the diagonal matrix diag(A_jj): the symbolic analysis (ordering,
+//! elimination tree, supernodes: a [`CholeskyAnalysis`]) of A is done once, and a change of
+//! working set costs one numeric sparse Cholesky factorisation; a working set that repeats from one
+//! step to the next (a plate resting on an obstacle) reuses the factor and costs two triangular
+//! solves. Each solve is followed by one step of iterative refinement on the reduced system. The
+//! factor is allocated on the first solve, so a system that never eliminates anything costs only
+//! its vectors.
 //!
 //! The sign test of the active-set method needs, for each active i, a scale s_i ≤ W_ii; here
 //! s_i = 1 / A_{c_i c_i}, which holds because (A⁻¹)_jj ≥ 1 / A_jj for any SPD A (Cauchy–Schwarz).
@@ -20,42 +22,39 @@
 //! dominated A = M + ½Δt²K of a time step).
 
 use super::block_factor::NotPositiveDefinite;
+use super::cholesky::{CholeskyAnalysis, CholeskyFactor};
 use super::WorkingSetSolver;
 use crate::Error;
-use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::matmul::sparse_dense_matmul;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::SparseColMat;
-use faer::{Accum, ColMut, Mat, MatMut, Par, Side};
+use faer::{Accum, ColMut, Mat, MatMut, Par};
 use std::sync::Arc;
 
 /// What an [`EliminatedSystem`] did so far.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct EliminatedStats {
-    /// Numeric factorisations (one per new working set).
+    /// Numeric factorisations (one per new working set, and one of A itself when needed).
     pub factorizations: usize,
-    /// Right-hand sides solved with a factor (two triangular solves and a refinement each).
+    /// Right-hand sides solved with a factor.
     pub solves: usize,
 }
 
-/// A sparse SPD A with some dofs always fixed at zero and constrained dofs that a working set
-/// fixes at their bounds (module docs).
+/// A sparse SPD A whose constrained dofs a working set fixes at their bounds (module docs).
 pub struct EliminatedSystem {
     a: Arc<SparseColMat<usize, f64>>,
     /// The constrained dofs c_i.
     constrained: Vec<usize>,
-    symbolic: SymbolicLlt<usize>,
-    /// A with the rows and columns of the fixed dofs replaced by diag(A_jj); allocated on the
+    analysis: CholeskyAnalysis,
+    /// A with the rows and columns of the eliminated dofs replaced by diag(A_jj); allocated on the
     /// first factorisation that eliminates anything (until then the factor is A's own).
     reduced: Option<SparseColMat<usize, f64>>,
-    /// Whether `factor` is the factor of `reduced` (else of A).
-    uses_reduced: bool,
-    factor: Option<Llt<usize, f64>>,
-    /// The working set (increasing constrained indices) that `factor` eliminates.
-    factored: Vec<usize>,
-    /// Whether each dof is eliminated in `factor`.
+    /// The numeric factor, made on first use.
+    factor: Option<CholeskyFactor>,
+    /// The working set (increasing constrained indices) that `factor` eliminates, `None` before
+    /// the first factorisation (and after one that failed).
+    factored: Option<Vec<usize>>,
+    /// Whether each dof is eliminated in the factor being made.
     eliminated: Vec<bool>,
-    always_fixed: Vec<usize>,
     diagonal: Vec<f64>,
     b: Vec<f64>,
     x_star: Vec<f64>,
@@ -65,19 +64,16 @@ pub struct EliminatedSystem {
 }
 
 impl EliminatedSystem {
-    /// The system of `a` (n × n, SPD, both triangles stored) with the dofs `fixed` held at zero and
-    /// the constrained dofs `constrained` (distinct, not fixed). Runs the symbolic analysis and
-    /// factors A with nothing but the fixed dofs eliminated.
+    /// The system of `a` (n × n, SPD, both triangles stored, with the pattern `analysis` was made
+    /// for) with the constrained dofs `constrained` (distinct). Factors nothing yet: the first
+    /// solve does.
     pub fn new(
         a: Arc<SparseColMat<usize, f64>>,
-        fixed: &[usize],
+        analysis: CholeskyAnalysis,
         constrained: &[usize],
     ) -> Result<EliminatedSystem, Error> {
         let n = a.nrows();
         let a_ref = a.as_ref();
-        let symbolic = SymbolicLlt::try_new(a.symbolic(), Side::Lower).map_err(|e| {
-            Error::Numerical(format!("symbolic sparse Cholesky analysis failed ({e:?})"))
-        })?;
         let mut diagonal = vec![0.0; n];
         for (j, d) in diagonal.iter_mut().enumerate() {
             for (i, &v) in a_ref.row_idx_of_col(j).zip(a_ref.val_of_col(j)) {
@@ -92,51 +88,46 @@ impl EliminatedSystem {
                 diagonal[j]
             )));
         }
-        EliminatedSystem::with_analysis(a, symbolic, diagonal, fixed, constrained)
-    }
-
-    /// A second system on the same A, fixed and constrained dofs, sharing A and its symbolic
-    /// analysis, with a numeric factor of its own: one can keep A's factor for unconstrained
-    /// solves while the other factors working sets.
-    pub fn share(&self) -> Result<EliminatedSystem, Error> {
-        EliminatedSystem::with_analysis(
-            Arc::clone(&self.a),
-            self.symbolic.clone(),
-            self.diagonal.clone(),
-            &self.always_fixed,
-            &self.constrained,
-        )
-    }
-
-    /// The system from A, its symbolic analysis and its diagonal, factored with nothing but the
-    /// fixed dofs eliminated.
-    fn with_analysis(
-        a: Arc<SparseColMat<usize, f64>>,
-        symbolic: SymbolicLlt<usize>,
-        diagonal: Vec<f64>,
-        fixed: &[usize],
-        constrained: &[usize],
-    ) -> Result<EliminatedSystem, Error> {
-        let n = a.nrows();
-        let mut system = EliminatedSystem {
+        Ok(EliminatedSystem {
             a,
             constrained: constrained.to_vec(),
-            symbolic,
+            analysis,
             reduced: None,
-            uses_reduced: false,
             factor: None,
-            factored: Vec::new(),
+            factored: None,
             eliminated: vec![false; n],
-            always_fixed: fixed.to_vec(),
             diagonal,
             b: vec![0.0; n],
             x_star: vec![0.0; n],
             x: vec![0.0; n],
             residual: Mat::zeros(n, 1),
             stats: EliminatedStats::default(),
-        };
-        system.refactor(&[]).map_err(|_| not_positive_definite())?;
-        Ok(system)
+        })
+    }
+
+    /// A second system on the same A, analysis and constrained dofs, with no factor yet: one can
+    /// keep A's factor for unconstrained solves while the other factors working sets.
+    pub fn share(&self) -> EliminatedSystem {
+        EliminatedSystem {
+            a: Arc::clone(&self.a),
+            constrained: self.constrained.clone(),
+            analysis: self.analysis.clone(),
+            reduced: None,
+            factor: None,
+            factored: None,
+            eliminated: vec![false; self.eliminated.len()],
+            diagonal: self.diagonal.clone(),
+            b: vec![0.0; self.b.len()],
+            x_star: vec![0.0; self.x_star.len()],
+            x: vec![0.0; self.x.len()],
+            residual: Mat::zeros(self.x.len(), 1),
+            stats: EliminatedStats::default(),
+        }
+    }
+
+    /// The analysis of A's pattern.
+    pub fn analysis(&self) -> &CholeskyAnalysis {
+        &self.analysis
     }
 
     /// The constrained dofs.
@@ -145,7 +136,7 @@ impl EliminatedSystem {
     }
 
     /// Sets the QP of the step: its linear term `b` and its unconstrained minimiser `x_star`
-    /// (length n, x* = 0 on the fixed dofs), from which the working-set solves start.
+    /// (length n), from which the working-set solves start.
     pub fn set_step(&mut self, b: &[f64], x_star: &[f64]) {
         self.b.copy_from_slice(b);
         self.x_star.copy_from_slice(x_star);
@@ -162,43 +153,57 @@ impl EliminatedSystem {
         self.stats
     }
 
-    /// Solves A_FF x_F = b_F with no constrained dof eliminated (x = 0 on the fixed dofs): the
-    /// unconstrained step. Refactors if the factor holds a working set.
-    pub fn solve_unconstrained(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
-        x.copy_from_slice(b);
-        self.solve_unconstrained_in_place(ColMut::from_slice_mut(x).as_mat_mut())
+    /// Whether a numeric factor is held (its memory is allocated).
+    pub fn holds_factor(&self) -> bool {
+        self.factor.is_some()
     }
 
-    /// As [`Self::solve_unconstrained`], in place on the columns of `b` (n × r): several right-hand
-    /// sides stream the factor once, e.g. a block of columns of A⁻¹ Bᵀ for the Delassus operator.
-    pub fn solve_unconstrained_in_place(&mut self, mut b: MatMut<'_, f64>) -> Result<(), Error> {
-        if !self.factored.is_empty() {
+    /// x = A⁻¹ b, with no constrained dof eliminated: the unconstrained step. Factors A if the
+    /// factor holds a working set or there is none yet.
+    pub fn solve_unconstrained(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        x.copy_from_slice(b);
+        self.factor_unconstrained()?;
+        self.solve_reduced(ColMut::from_slice_mut(x).as_mat_mut());
+        Ok(())
+    }
+
+    /// x = A⁻¹ b in place on the columns of `b` (n × r) by one solve with the factor, without the
+    /// refinement step: several right-hand sides stream the factor once, e.g. a block of columns
+    /// of A⁻¹ Bᵀ for the Delassus operator. The solve is backward stable; on the plates its
+    /// residual is 2 to 4 times that of the refined solve, whose own residual is the round-off of
+    /// forming b − Ax.
+    pub fn solve_unconstrained_unrefined_in_place(
+        &mut self,
+        b: MatMut<'_, f64>,
+    ) -> Result<(), Error> {
+        self.factor_unconstrained()?;
+        self.stats.solves += b.ncols();
+        self.factor
+            .as_mut()
+            .expect("factored just above")
+            .solve_in_place(b);
+        Ok(())
+    }
+
+    /// Makes the factor that of A itself (nothing eliminated), unless it already is: an A that
+    /// is not numerically positive definite is reported here.
+    pub fn factor_unconstrained(&mut self) -> Result<(), Error> {
+        if self.factored.as_deref() != Some(&[]) {
             self.refactor(&[]).map_err(|_| not_positive_definite())?;
         }
-        for &j in &self.always_fixed {
-            for c in 0..b.ncols() {
-                b[(j, c)] = 0.0;
-            }
-        }
-        self.solve_reduced(b);
         Ok(())
     }
 
     /// Factors the reduced matrix of the working set `active` (increasing constrained indices).
     fn refactor(&mut self, active: &[usize]) -> Result<(), NotPositiveDefinite> {
-        self.eliminated.fill(false);
-        for &j in &self.always_fixed {
-            self.eliminated[j] = true;
-        }
-        for &i in active {
-            self.eliminated[self.constrained[i]] = true;
-        }
-        self.factor = None;
-        self.factored.clear();
-        self.uses_reduced = !(self.always_fixed.is_empty() && active.is_empty());
-        let factor = if !self.uses_reduced {
-            Llt::try_new_with_symbolic(self.symbolic.clone(), self.a.as_ref().as_ref(), Side::Lower)
+        self.factored = None;
+        let matrix = if active.is_empty() {
+            self.a.as_ref().as_ref()
         } else {
+            self.eliminated.fill(false);
+            for &i in active {
+                self.eliminated[self.constrained[i]] = true;
+            }
             // `reduced` is a copy of A: same pattern, same storage order of the values.
             let reduced = self.reduced.get_or_insert_with(|| (*self.a).clone());
             let (eliminated, diagonal) = (&self.eliminated, &self.diagonal);
@@ -218,11 +223,13 @@ impl EliminatedSystem {
                     };
                 }
             }
-            Llt::try_new_with_symbolic(self.symbolic.clone(), reduced.as_ref(), Side::Lower)
+            reduced.as_ref()
+        };
+        match &mut self.factor {
+            Some(factor) => factor.refactor(matrix)?,
+            None => self.factor = Some(CholeskyFactor::new(self.analysis.clone(), matrix)?),
         }
-        .map_err(|_| NotPositiveDefinite)?;
-        self.factor = Some(factor);
-        self.factored.extend_from_slice(active);
+        self.factored = Some(active.to_vec());
         self.stats.factorizations += 1;
         Ok(())
     }
@@ -230,12 +237,12 @@ impl EliminatedSystem {
     /// x ← reduced⁻¹ x for each column of x, with one step of iterative refinement
     /// (r = x − reduced·x̂, x̂ += reduced⁻¹ r).
     fn solve_reduced(&mut self, mut x: MatMut<'_, f64>) {
-        let factor = self.factor.as_ref().expect("factored at construction");
+        let factor = self.factor.as_mut().expect("factored before any solve");
         self.residual.resize_with(x.nrows(), x.ncols(), |_, _| 0.0);
         self.residual.copy_from(x.as_ref());
         factor.solve_in_place(x.as_mut());
-        let matrix = match &self.reduced {
-            Some(reduced) if self.uses_reduced => reduced.as_ref(),
+        let matrix = match (&self.reduced, self.factored.as_deref()) {
+            (Some(reduced), Some(set)) if !set.is_empty() => reduced.as_ref(),
             _ => self.a.as_ref().as_ref(),
         };
         sparse_dense_matmul(
@@ -274,7 +281,7 @@ impl WorkingSetSolver for EliminatedSystem {
         if active.is_empty() {
             x.copy_from_slice(&self.x_star);
         } else {
-            if self.factored != active {
+            if self.factored.as_deref() != Some(active) {
                 self.refactor(active)?;
             }
             // b_F − A_FE g_E on the free rows; A_jj g_j on the eliminated ones.
@@ -285,9 +292,6 @@ impl WorkingSetSolver for EliminatedSystem {
                 for (r, &v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
                     x[r] -= v * g;
                 }
-            }
-            for &j in &self.always_fixed {
-                x[j] = 0.0;
             }
             for (&i, &g) in active.iter().zip(bound) {
                 let j = self.constrained[i];

@@ -27,9 +27,11 @@
 
 pub mod active_set;
 pub mod block_factor;
+pub mod cholesky;
 pub mod clarabel;
 pub mod delassus;
 pub mod eliminated;
+pub mod ordering;
 pub mod sparse_contact;
 
 pub use active_set::{
@@ -43,12 +45,7 @@ use faer::sparse::SparseColMatRef;
 use faer::{Accum, ColMut, ColRef, Par};
 
 /// out ← out + α A x for a sparse A (faer's sparse × dense product).
-pub(crate) fn add_product(
-    a: SparseColMatRef<'_, usize, f64>,
-    x: &[f64],
-    alpha: f64,
-    out: &mut [f64],
-) {
+pub fn add_product(a: SparseColMatRef<'_, usize, f64>, x: &[f64], alpha: f64, out: &mut [f64]) {
     sparse_dense_matmul(
         ColMut::from_slice_mut(out).as_mat_mut(),
         Accum::Add,

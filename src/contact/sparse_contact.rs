@@ -2,16 +2,18 @@
 //! step, the Delassus columns it yields within a memory budget, the primal elimination, and the
 //! rule that picks the subproblem of each step.
 //!
-//! [`SparseContact`] owns two [`EliminatedSystem`]s on the same A (one symbolic analysis): the
-//! first keeps A's factor and serves the unconstrained steps x* = A⁻¹b, the Delassus columns
-//! W e_j = B A⁻¹ Bᵀ e_j (in blocks, cached by a [`DelassusCache`]) and the final correction
-//! x = A⁻¹(b + Bᵀλ); the second factors working sets for the primal elimination. A step whose
+//! [`SparseContact`] owns two [`EliminatedSystem`]s on the same A (one symbolic analysis, with
+//! the fill-reducing ordering of [`CholeskyAnalysis`]): the first keeps A's factor and serves the
+//! unconstrained steps x* = A⁻¹b, the Delassus columns W e_j = B A⁻¹ Bᵀ e_j (in blocks, cached
+//! by a [`DelassusCache`]) and the final correction x = A⁻¹(b + Bᵀλ); the second factors working
+//! sets for the primal elimination, and is made (with the memory of a second factor) only when
+//! a step first needs it. A step whose
 //! warm start has at most [`SparseContact::delassus_limit`] active indices (min(m/4, 1 000)) is
 //! solved on W, a larger one by elimination; so is a cold start (no warm start) whose
-//! unconstrained step leaves the box at more vertices whose columns are not cached yet than that
-//! limit (see docs/contact.md for the measurements behind
-//! the rule). Either way the answer is the QP's exact minimiser.
+//! unconstrained step leaves the box at more vertices than that limit (see docs/contact.md for
+//! the measurements behind the rule). Either way the answer is the QP's exact minimiser.
 
+use super::cholesky::CholeskyAnalysis;
 use super::delassus::{ColumnSource, DelassusCache};
 use super::eliminated::EliminatedSystem;
 use super::{ActiveSetSolver, BoundState, PdasReport, PdasSettings};
@@ -31,7 +33,11 @@ pub fn delassus_limit(m: usize) -> usize {
     (m / 4).min(MAX_DELASSUS_BLOCK)
 }
 
-/// The columns of W = B A⁻¹ Bᵀ by block solves with the factor of A.
+/// The columns of W = B A⁻¹ Bᵀ by block solves with the factor of A, without iterative
+/// refinement: an error δW in W perturbs the multipliers, but the answer x = A⁻¹(b + Bᵀλ) is
+/// solved refined, so it stays the exact minimiser for its λ up to (δW λ) at the active values,
+/// the relative round-off of one solve times the step's contact displacement (far below the
+/// 1e-12 m the steps are held to); the refinement would double the cost of every column.
 pub struct InverseColumns {
     system: EliminatedSystem,
     block: Mat<f64>,
@@ -47,7 +53,7 @@ impl ColumnSource for InverseColumns {
             self.block[(self.system.constrained()[j], q)] = 1.0;
         }
         self.system
-            .solve_unconstrained_in_place(self.block.as_mut())
+            .solve_unconstrained_unrefined_in_place(self.block.as_mut())
             .expect("A was factored at construction and the factor is kept");
         for (q, column) in out.chunks_mut(m).enumerate() {
             for (o, &c) in column.iter_mut().zip(self.system.constrained()) {
@@ -69,7 +75,10 @@ pub enum Subproblem {
 /// The contact solve of a sparse backend (module docs).
 pub struct SparseContact {
     delassus: DelassusCache<InverseColumns>,
-    eliminated: EliminatedSystem,
+    /// The primal elimination, made on its first use.
+    eliminated: Option<EliminatedSystem>,
+    /// The constrained dofs.
+    constrained: Vec<usize>,
     pdas: ActiveSetSolver,
     limit: usize,
     forced: Option<Subproblem>,
@@ -79,17 +88,19 @@ pub struct SparseContact {
 }
 
 impl SparseContact {
-    /// For A (n × n, SPD, both triangles), the dofs `fixed` held at zero and the `constrained`
-    /// dofs, with Delassus columns kept within `budget_bytes`. Runs one symbolic analysis and two
-    /// numeric factorisations of A.
+    /// For A (n × n, SPD, both triangles) and the `constrained` dofs, with Delassus columns kept
+    /// within `budget_bytes`. Runs the symbolic analysis of A's pattern (with faer's minimum
+    /// degree ordering and `proposed_ordering` if given, keeping the one of less fill, see
+    /// [`CholeskyAnalysis::new`]) and one numeric factorisation.
     pub fn new(
         a: Arc<SparseColMat<usize, f64>>,
-        fixed: &[usize],
         constrained: &[usize],
         budget_bytes: usize,
+        proposed_ordering: Option<&[usize]>,
     ) -> Result<SparseContact, Error> {
-        let system = EliminatedSystem::new(a, fixed, constrained)?;
-        let eliminated = system.share()?;
+        let analysis = CholeskyAnalysis::new(a.symbolic(), proposed_ordering)?;
+        let mut system = EliminatedSystem::new(a, analysis, constrained)?;
+        system.factor_unconstrained()?;
         let m = constrained.len();
         let n = system.x().len();
         Ok(SparseContact {
@@ -101,7 +112,8 @@ impl SparseContact {
                     block: Mat::zeros(n, 0),
                 },
             ),
-            eliminated,
+            eliminated: None,
+            constrained: constrained.to_vec(),
             pdas: ActiveSetSolver::new(),
             limit: delassus_limit(m),
             forced: None,
@@ -116,14 +128,13 @@ impl SparseContact {
         self.forced = Some(choice);
     }
 
-    /// The largest warm start, or number of uncached columns a cold start would need, solved on the
+    /// The largest warm start, or number of values outside the box on a cold start, solved on the
     /// Delassus operator ([`delassus_limit`]).
     pub fn delassus_limit(&self) -> usize {
         self.limit
     }
 
-    /// x = A⁻¹ b, the unconstrained step (x = 0 on the fixed dofs), with one step of iterative
-    /// refinement.
+    /// x = A⁻¹ b, the unconstrained step, with one step of iterative refinement.
     pub fn solve_unconstrained(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
         self.delassus.source_mut().system.solve_unconstrained(b, x)
     }
@@ -143,22 +154,23 @@ impl SparseContact {
         settings: &PdasSettings,
         x: &mut [f64],
     ) -> Result<PdasReport, Error> {
-        let constrained = self.eliminated.constrained();
+        let constrained = &self.constrained;
         for (y, &c) in self.y_star.iter_mut().zip(constrained) {
             *y = x_star[c];
         }
-        // Elimination when the warm start is large, or on a cold start when the columns that the
-        // values outside the box would need are mostly not cached yet.
+        // Elimination when the warm start is large, or on a cold start when many values lie
+        // outside the box. The rule reads the step's data only, not what the cache holds: the
+        // path, hence the round-off, of a step must not depend on the steps before it (a restored
+        // state continues bit for bit).
         let warm = states.iter().filter(|s| s.is_active()).count();
-        let missing = if warm == 0 {
+        let outside = if warm == 0 {
             (0..self.y_star.len())
                 .filter(|&i| self.y_star[i] < lower[i] || self.y_star[i] > upper[i])
-                .filter(|&i| !self.delassus.holds(i))
                 .count()
         } else {
             0
         };
-        self.last = self.forced.unwrap_or(if warm.max(missing) <= self.limit {
+        self.last = self.forced.unwrap_or(if warm.max(outside) <= self.limit {
             Subproblem::Delassus
         } else {
             Subproblem::Eliminated
@@ -183,17 +195,14 @@ impl SparseContact {
                 report
             }
             Subproblem::Eliminated => {
-                self.eliminated.set_step(b, x_star);
-                let report = self.pdas.solve_with(
-                    &mut self.eliminated,
-                    &self.y_star,
-                    lower,
-                    upper,
-                    states,
-                    settings,
-                );
+                let source = &self.delassus.source().system;
+                let eliminated = self.eliminated.get_or_insert_with(|| source.share());
+                eliminated.set_step(b, x_star);
+                let report =
+                    self.pdas
+                        .solve_with(eliminated, &self.y_star, lower, upper, states, settings);
                 if states.iter().any(|s| s.is_active()) {
-                    x.copy_from_slice(self.eliminated.x());
+                    x.copy_from_slice(eliminated.x());
                 } else {
                     x.copy_from_slice(x_star);
                 }
@@ -226,9 +235,14 @@ impl SparseContact {
         &self.delassus
     }
 
-    /// The primal elimination (its statistics).
-    pub fn eliminated(&self) -> &EliminatedSystem {
-        &self.eliminated
+    /// The primal elimination (its statistics), once a step has used it.
+    pub fn eliminated(&self) -> Option<&EliminatedSystem> {
+        self.eliminated.as_ref()
+    }
+
+    /// The analysis of A's pattern (its ordering and the size of the factor).
+    pub fn analysis(&self) -> &CholeskyAnalysis {
+        self.delassus.source().system.analysis()
     }
 
     /// The active-set solver (its factor statistics).

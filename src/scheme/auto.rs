@@ -2,17 +2,22 @@
 
 use super::backend::LinearBackend;
 use super::modal::{FreeDofData, ModalBackend, ModalData};
-use super::sparse::{SparseBackend, SparseData};
+use super::sparse::SparseBackend;
 use super::FreeSystem;
 use crate::error::Error;
+use crate::modes::generalized_eigen;
 use crate::scene::{LinearChoice, Scene};
-use crate::system::PlateSystem;
 use std::sync::Arc;
 
-/// Largest number of free dofs for which `auto` picks the dense modal backend: its set-up is a dense
-/// O(n³) eigen-decomposition (measured on this 2-core machine: 1 s at 1369 free dofs, 12 s at
-/// 2675) and O(n²) memory; at 2000 dofs it stays near 5 s, which a host initialising an FMU still
-/// tolerates, and beyond it the sparse backend's cheaper set-up wins for runs of ordinary length.
+/// Largest number of free dofs for which `auto` picks the dense modal backend. Its set-up is a
+/// dense O(n³) eigen-decomposition with O(n²) memory, the sparse backend's a sparse Cholesky
+/// factorisation, but a modal step costs 20–60 µs where a sparse one costs 0.4–0.6 ms at these
+/// sizes (`cargo run --release --example bench -- --crossover`, `forced-35hz`, this 2-core
+/// machine): at 1951 free dofs (Argyris 20 × 10) modal sets up in 3.0 s against 0.01 s and wins
+/// after 6 000 steps, at 2773 (24 × 12) in 8.9 s and wins after 15 000; FVS 36 × 18 (2052) and
+/// 40 × 20 (2520) break even after 6 400 and 11 000 steps. Up to this limit the modal backend
+/// pays for its set-up (at most about 3 s and 270 MiB) within 0.65 s of simulated time at
+/// Δt = 1e-4 s; a run of the default 1 s breaks even near 2 300 (Argyris) to 2 400 (FVS) free dofs.
 pub const MODAL_AUTO_LIMIT: usize = 2000;
 
 /// The backend `choice` names, `auto` resolved by the number of free dofs.
@@ -24,29 +29,31 @@ pub fn resolve(choice: LinearChoice, free_dofs: usize) -> LinearChoice {
     }
 }
 
-/// Builds the backend `linear` (resolved, not `Auto`) of the plate of `scene`.
+/// Builds the backend `linear` (resolved, not `Auto`) of the free system `free` of `scene`.
 pub fn build(
     linear: LinearChoice,
     scene: &Scene,
-    plate: &PlateSystem,
     free: &Arc<FreeSystem>,
 ) -> Result<Box<dyn LinearBackend>, Error> {
     Ok(match linear {
         LinearChoice::Modal => {
+            // The dense M_ff serves the eigenproblem and the modal data: made once.
+            let mass = free.mass.to_dense();
+            let modes = generalized_eigen(&mass, &free.stiffness.to_dense())?;
             let data = ModalData::new(
-                plate.modes()?,
+                modes,
                 scene.solver.time_step,
                 FreeDofData {
                     constrained: &free.constrained,
                     load: &free.load,
                     translation_mass: &free.translation_mass,
                     outputs: &free.outputs,
-                    mass: free.mass.to_dense(),
+                    mass,
                     damping: &free.damping,
                 },
             );
             Box::new(ModalBackend::new(Arc::new(data)))
         }
-        _ => Box::new(SparseBackend::new(Arc::new(SparseData::new(free.clone())?))),
+        _ => Box::new(SparseBackend::new(Arc::clone(free))?),
     })
 }

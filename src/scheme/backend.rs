@@ -2,9 +2,13 @@
 //!
 //! The stepper owns the fields of the three time levels (w_{n−1}, w_n and the next w_{n+1}) in the
 //! backend's coordinates, and everything else of the scheme: forcing, bounds, contact, outputs.
-//! A backend only maps fields: it predicts the unconstrained w_{n+1}, corrects it by contact
-//! multipliers, reads constrained vertex values, energy pieces and output values of a field, gives
-//! the Delassus operator column by column, and converts fields to and from free-dof vectors.
+//! A backend only maps fields: it predicts the unconstrained w_{n+1}, solves the step's contact
+//! problem from that prediction by the path that suits its linear algebra, reads constrained
+//! vertex values, energy pieces and output values of a field, and converts fields to and from
+//! free-dof vectors.
+
+use crate::contact::{BoundState, PdasReport, PdasSettings};
+use crate::error::Error;
 
 /// Forcing of one step, as multipliers of the precomputed free-dof vectors f (unit load) and
 /// m₁ = (M𝟙)_f (the mass matrix times the rigid translation).
@@ -55,23 +59,24 @@ pub trait LinearBackend: Send {
     /// step from `previous` (w_{n−1}) and `current` (w_n), see
     /// [`FreeSystem::right_hand_side`](super::FreeSystem::right_hand_side); for the start step
     /// (`forcing.start`) A is the undamped A₀, and so is the system that
-    /// [`LinearBackend::delassus_column`] and [`LinearBackend::correct`] then use. Returns the
+    /// [`LinearBackend::solve_contact`] then uses. Returns the
     /// prediction's [`FieldSums`] from passes the backend makes anyway: the translation bit for
-    /// bit as [`LinearBackend::field_sums`] gives it, the norm to round-off.
+    /// bit as [`LinearBackend::field_sums`] gives it, the norm to round-off. An error is a failure
+    /// to factor the step's matrix.
     fn predict(
         &mut self,
         previous: &[f64],
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    ) -> FieldSums;
+    ) -> Result<FieldSums, Error>;
     /// The [`FieldSums`] of a field.
     fn field_sums(&self, field: &[f64]) -> FieldSums;
     /// fᵀw, the work-conjugate of a 1 Pa pressure (m³).
     fn load_projection(&self, field: &[f64]) -> f64;
     /// μᵀB(x − y) for the QP multipliers μ of the step just solved, whose solution is `next` = x
-    /// (y = `previous`). A backend may use (and use up) what its last [`LinearBackend::correct`]
-    /// left, so call it at most once, right after the step's solve.
+    /// (y = `previous`). A backend may use (and use up) what its last
+    /// [`LinearBackend::solve_contact`] left, so call it at most once, right after the step's solve.
     fn multiplier_work(&mut self, next: &[f64], previous: &[f64], multipliers: &[f64]) -> f64;
     /// A constant c ≥ 1 such that, for fields x, y, z of squared norm at most N ≥ 1 and
     /// ẇ = (x − y)/Δt, each of ẇᵀMẇ, |m₁ᵀẇ|, |m₁ᵀ(x − 2y + z)|/Δt², xᵀKx, |fᵀx| and the
@@ -82,10 +87,24 @@ pub trait LinearBackend: Send {
     /// constrained vertex, without computing those values exactly (a cheap screening test).
     /// `false` means "not proven", not "violated": the caller then evaluates the values.
     fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool;
-    /// Column j of the Delassus operator W = B A⁻¹ Bᵀ.
-    fn delassus_column(&mut self, j: usize) -> &[f64];
-    /// Replaces the last prediction `next` by A⁻¹(b + Bᵀμ), μ nonzero only at `active`.
-    fn correct(&mut self, next: &mut [f64], active: &[usize], multipliers: &[f64]);
+    /// Solves the step's QP (docs/scheme.md §3) from the last prediction `next` = w* = A⁻¹b, whose
+    /// constrained values are `prediction` (y* = Bw*): min ½wᵀAw − bᵀw over
+    /// `lower` ≤ Bw ≤ `upper`, warm-started from the contact states `states`, which it updates.
+    /// When the report's status [is solved](crate::contact::PdasStatus::is_solved), `next` is the
+    /// exact minimiser w = A⁻¹(b + Bᵀμ) and [`LinearBackend::contact_multipliers`] gives μ;
+    /// otherwise `next` is unspecified and the caller solves the step another way. An error is a
+    /// failure of the linear algebra (a factorisation that lost positive definiteness).
+    fn solve_contact(
+        &mut self,
+        next: &mut [f64],
+        prediction: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+    ) -> Result<PdasReport, Error>;
+    /// The multipliers μ (length m) of the last solved [`LinearBackend::solve_contact`].
+    fn contact_multipliers(&self) -> &[f64];
     /// The constrained values of a field.
     fn constrained_values(&self, field: &[f64], out: &mut [f64]);
     /// A field as a free-dof vector w_f.
@@ -98,22 +117,4 @@ pub trait LinearBackend: Send {
     fn damping_quadratic(&self, x: &[f64], y: &[f64]) -> f64;
     /// A field's relative displacement w at the three output points.
     fn output_values(&self, field: &[f64]) -> [f64; 3];
-}
-
-/// The Delassus operator of a backend, column by column, for the active-set solver.
-pub(crate) struct BackendDelassus<'a> {
-    /// The backend whose W is read.
-    pub backend: &'a mut dyn LinearBackend,
-    /// m, the number of constrained vertices.
-    pub dim: usize,
-}
-
-impl crate::contact::Delassus for BackendDelassus<'_> {
-    fn dim(&self) -> usize {
-        self.dim
-    }
-
-    fn column(&mut self, j: usize) -> &[f64] {
-        self.backend.delassus_column(j)
-    }
 }

@@ -9,12 +9,13 @@
 
 use super::backend::StepForcing;
 use super::vectors::dot;
+use crate::assembly::dofs_per_vertex;
+use crate::contact::add_product;
 use crate::modes::sparse_restriction;
 use crate::scene::{Damping, Scene};
 use crate::system::PlateSystem;
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::SparseColMat;
-use faer::{Accum, ColMut, ColRef, Par};
+use std::sync::Arc;
 
 /// The free-dof restriction of the plate for one time step Δt.
 #[derive(Debug)]
@@ -24,12 +25,12 @@ pub struct FreeSystem {
     /// K_ff.
     pub stiffness: SparseColMat<usize, f64>,
     /// A = M_ff + ½Δt²K_ff + ½ΔtC_ff, C = αM + βK the Rayleigh damping (zero by default).
-    pub system: SparseColMat<usize, f64>,
+    pub system: Arc<SparseColMat<usize, f64>>,
     /// A − ΔtC, the matrix of w_{n−1} in the right-hand side; `None` without damping (then A).
     lagged_system: Option<SparseColMat<usize, f64>>,
     /// A₀ = M_ff + ½Δt²K_ff, the matrix of the start step, which has no damping term (v_0 = 0);
     /// `None` without damping (then A).
-    start_system: Option<SparseColMat<usize, f64>>,
+    start_system: Option<Arc<SparseColMat<usize, f64>>>,
     /// The scene's damping.
     pub damping: Damping,
     /// f_f for a 1 Pa pressure.
@@ -43,6 +44,10 @@ pub struct FreeSystem {
     /// For each mesh vertex, in the mesh's order, the free-dof index of its value dof; `None` on
     /// the clamp, where the value is the base displacement.
     pub vertex_values: Vec<Option<usize>>,
+    /// The node of each free dof (its vertex, or for Argyris the midpoint of its edge) as a point
+    /// of the lattice of half cells, (round(2x/hx), round(2y/hy)) for cells of hx × hy: the input
+    /// of the nested-dissection ordering ([`crate::contact::ordering`]).
+    pub nodes: Vec<[i64; 2]>,
     /// 𝟙ᵀM𝟙: the plate's mass (kg).
     pub total_mass: f64,
     /// ∫ 1: the plate's area (m²).
@@ -53,8 +58,8 @@ impl FreeSystem {
     /// Restricts the assembled plate of `scene` to its free dofs.
     pub fn new(scene: &Scene, plate: &PlateSystem) -> FreeSystem {
         let keep = &plate.free;
-        let mass = sparse_restriction(&plate.mass, keep);
-        let stiffness = sparse_restriction(&plate.stiffness, keep);
+        let mass = sparse_restriction(plate.mass.as_ref(), keep);
+        let stiffness = sparse_restriction(plate.stiffness.as_ref(), keep);
         let dt = scene.solver.time_step;
         let damping = scene.damping.clone();
         let (alpha, beta) = (damping.mass_proportional, damping.stiffness_proportional);
@@ -71,14 +76,19 @@ impl FreeSystem {
             )
         };
         let mut m_translation = vec![0.0; plate.disc.dof_count];
-        multiply_add(&plate.mass, &plate.translation, 1.0, &mut m_translation);
+        add_product(
+            plate.mass.as_ref(),
+            &plate.translation,
+            1.0,
+            &mut m_translation,
+        );
         let has_obstacle = scene.obstacle.lower_enabled || scene.obstacle.upper_enabled;
         FreeSystem {
             mass,
             stiffness,
-            system,
+            system: Arc::new(system),
             lagged_system,
-            start_system,
+            start_system: start_system.map(Arc::new),
             damping,
             load: keep.iter().map(|&d| plate.unit_load[d]).collect(),
             translation_mass: keep.iter().map(|&d| m_translation[d]).collect(),
@@ -101,6 +111,7 @@ impl FreeSystem {
                 .collect(),
             total_mass: dot(&m_translation, &plate.translation),
             area: dot(&plate.unit_load, &plate.translation),
+            nodes: free_dof_nodes(scene, plate),
         }
     }
 
@@ -110,6 +121,11 @@ impl FreeSystem {
             (Some(start_system), true) => start_system,
             _ => &self.system,
         }
+    }
+
+    /// A₀, the start step's matrix, when damping makes it differ from A.
+    pub fn start_system(&self) -> Option<&Arc<SparseColMat<usize, f64>>> {
+        self.start_system.as_ref()
     }
 
     /// The right-hand side b of a step over the free dofs, from w_{n−1} and w_n:
@@ -128,30 +144,43 @@ impl FreeSystem {
             *b = forcing.load * f + forcing.translation * m;
         }
         if forcing.start {
-            multiply_add(&self.mass, current, 1.0, b);
+            add_product(self.mass.as_ref(), current, 1.0, b);
         } else {
-            multiply_add(&self.mass, current, 2.0, b);
+            add_product(self.mass.as_ref(), current, 2.0, b);
             let lagged = self.lagged_system.as_ref().unwrap_or(&self.system);
-            multiply_add(lagged, previous, -1.0, b);
+            add_product(lagged.as_ref(), previous, -1.0, b);
         }
     }
 }
 
-/// y ← y + alpha·A x for a sparse A (faer's sparse × dense product).
-pub(crate) fn multiply_add(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, y: &mut [f64]) {
-    sparse_dense_matmul(
-        ColMut::from_slice_mut(y).as_mat_mut(),
-        Accum::Add,
-        a.as_ref(),
-        ColRef::from_slice(x).as_mat(),
-        alpha,
-        Par::Seq,
-    );
+/// The lattice point of each free dof's node (see [`FreeSystem::nodes`]): vertex dofs come first,
+/// `dofs_per_vertex` per vertex, then (Argyris) one per edge.
+fn free_dof_nodes(scene: &Scene, plate: &PlateSystem) -> Vec<[i64; 2]> {
+    let mesh = &plate.disc.mesh;
+    let cell = [
+        scene.plate.length / scene.mesh.nx as f64,
+        scene.plate.width / scene.mesh.ny as f64,
+    ];
+    let lattice = |p: [f64; 2]| [0, 1].map(|a| (2.0 * p[a] / cell[a]).round() as i64);
+    let per_vertex = dofs_per_vertex(scene.mesh.element);
+    let vertex_dofs = per_vertex * mesh.vertices.len();
+    plate
+        .free
+        .iter()
+        .map(|&d| {
+            if d < vertex_dofs {
+                lattice(mesh.vertices[d / per_vertex])
+            } else {
+                let [p, q] = mesh.edges[d - vertex_dofs].map(|v| lattice(mesh.vertices[v]));
+                [(p[0] + q[0]) / 2, (p[1] + q[1]) / 2]
+            }
+        })
+        .collect()
 }
 
 /// xᵀ A x for a sparse A.
 pub(crate) fn quadratic(a: &SparseColMat<usize, f64>, x: &[f64]) -> f64 {
     let mut ax = vec![0.0; x.len()];
-    multiply_add(a, x, 1.0, &mut ax);
+    add_product(a.as_ref(), x, 1.0, &mut ax);
     dot(&ax, x)
 }

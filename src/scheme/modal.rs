@@ -17,10 +17,12 @@
 
 use super::backend::{EnergyPieces, FieldSums, LinearBackend, StepForcing};
 use super::vectors::{dot, sum_of_squares};
+use crate::contact::{ActiveSetSolver, BoundState, DenseDelassus, PdasReport, PdasSettings};
+use crate::error::Error;
 use crate::modes::Modes;
 use crate::scene::Damping;
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Col, Mat, Par};
+use faer::{Accum, Col, ColRef, Mat, MatMut, Par};
 use std::sync::Arc;
 
 /// The diagonal system of one kind of step in modal coordinates: D = diag(d_k).
@@ -36,8 +38,8 @@ struct ModalSystem {
     lagged: Vec<f64>,
     /// Cᵀ scaled by D⁻¹ row-wise, stored as n × m: column i is D⁻¹ Cᵀ e_i = Φᵀ A⁻¹ Bᵀ e_i.
     c_t_scaled: Mat<f64>,
-    /// W = C D⁻¹ Cᵀ (m × m).
-    delassus: Mat<f64>,
+    /// W = C D⁻¹ Cᵀ (m × m), precomputed.
+    delassus: DenseDelassus,
 }
 
 impl ModalSystem {
@@ -54,9 +56,9 @@ impl ModalSystem {
             .map(|(&w2, &ck)| 1.0 + 0.5 * time_step * time_step * w2 + 0.5 * time_step * ck)
             .collect();
         let c_t_scaled = Mat::from_fn(n, m, |k, i| c[(i, k)] / d[k]);
-        let mut delassus = Mat::zeros(m, m);
+        let mut delassus = vec![0.0; m * m];
         matmul(
-            delassus.as_mut(),
+            MatMut::from_column_major_slice_mut(&mut delassus, m, m),
             Accum::Replace,
             c.as_ref(),
             c_t_scaled.as_ref(),
@@ -72,7 +74,7 @@ impl ModalSystem {
                 .map(|(&d, &ck)| (d - time_step * ck) / d)
                 .collect(),
             c_t_scaled,
-            delassus,
+            delassus: DenseDelassus::new(m, delassus),
             d,
         }
     }
@@ -157,14 +159,14 @@ impl ModalData {
         let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c);
         let start = (!free.damping.is_zero())
             .then(|| ModalSystem::new(&modes.omega_squared, &Damping::default(), time_step, &c));
+        // Φᵀv.
         let project = |v: &[f64]| -> Vec<f64> {
-            (0..n)
-                .map(|k| (0..v.len()).map(|i| shapes[(i, k)] * v[i]).sum())
-                .collect()
+            let projected = shapes.transpose() * ColRef::from_slice(v);
+            projected.iter().copied().collect()
         };
         let low = SCREENING_MODES.min(n);
-        let row_norm =
-            |i: usize, from: usize| (from..n).map(|k| c[(i, k)] * c[(i, k)]).sum::<f64>().sqrt();
+        // ‖C_i‖ over the modes from `from` on.
+        let row_norm = |i: usize, from: usize| c.row(i).subcols(from, n - from).norm_l2();
         let high_row_norms = (0..m).map(|i| row_norm(i, low)).collect();
         let row_norms = (0..m).map(|i| row_norm(i, 0)).collect();
         let load = project(free.load);
@@ -213,10 +215,12 @@ pub struct ModalBackend {
     /// Whether the last prediction was a start step's (its Delassus operator and correction
     /// are those of the undamped start system).
     start: bool,
-    /// The prediction before the last [`LinearBackend::correct`], when that correction belongs
-    /// to the step being solved: then q_{n+1} − q* = D⁻¹Cᵀμ.
+    /// The prediction before the last contact solve, when that solve belongs to the step being
+    /// solved: then q_{n+1} − q* = D⁻¹Cᵀμ.
     unconstrained: Vec<f64>,
     corrected: bool,
+    /// The active-set method on W, with the factor of its active block.
+    active_set: ActiveSetSolver,
 }
 
 impl ModalBackend {
@@ -228,6 +232,7 @@ impl ModalBackend {
             start: false,
             unconstrained: vec![0.0; data.omega_squared.len()],
             corrected: false,
+            active_set: ActiveSetSolver::new(),
             data,
         }
     }
@@ -244,7 +249,7 @@ impl LinearBackend for ModalBackend {
         current: &[f64],
         forcing: &StepForcing,
         next: &mut [f64],
-    ) -> FieldSums {
+    ) -> Result<FieldSums, Error> {
         let data = &*self.data;
         self.start = forcing.start;
         self.corrected = false;
@@ -268,10 +273,10 @@ impl LinearBackend for ModalBackend {
         // The squared norms of q_{n+1} over the low and the high modes, for the screening.
         let low = SCREENING_MODES.min(next.len());
         self.next_norms_squared = [sum_of_squares(&next[..low]), sum_of_squares(&next[low..])];
-        FieldSums {
+        Ok(FieldSums {
             norm_squared: self.next_norms_squared[0] + self.next_norms_squared[1],
             translation: translation_mass(data, next),
-        }
+        })
     }
 
     fn field_sums(&self, field: &[f64]) -> FieldSums {
@@ -300,15 +305,12 @@ impl LinearBackend for ModalBackend {
             scaled * faer::ColRef::from_slice(next) - scaled * faer::ColRef::from_slice(previous)
         } else {
             let c = &self.data.c;
+            let difference = Col::from_fn(next.len(), |k| next[k] - previous[k]);
             multipliers
                 .iter()
                 .enumerate()
                 .filter(|(_, &mu)| mu != 0.0)
-                .map(|(i, &mu)| {
-                    mu * (0..c.ncols())
-                        .map(|k| c[(i, k)] * (next[k] - previous[k]))
-                        .sum::<f64>()
-                })
+                .map(|(i, &mu)| mu * (c.row(i) * &difference))
                 .sum()
         }
     }
@@ -355,32 +357,45 @@ impl LinearBackend for ModalBackend {
         })
     }
 
-    fn delassus_column(&mut self, j: usize) -> &[f64] {
-        self.data
-            .system(self.start)
-            .delassus
-            .col(j)
-            .try_as_col_major()
-            .expect("an owned matrix is column-major")
-            .as_slice()
-    }
-
-    fn correct(&mut self, next: &mut [f64], active: &[usize], multipliers: &[f64]) {
-        self.unconstrained.copy_from_slice(next);
-        self.corrected = true;
-        for &i in active {
-            let mu = multipliers[i];
-            let column = self
-                .data
-                .system(self.start)
-                .c_t_scaled
-                .col(i)
-                .try_as_col_major()
-                .expect("owned matrices are column-major");
-            for (q, &c) in next.iter_mut().zip(column.as_slice()) {
-                *q += mu * c;
+    /// The active-set method on the precomputed W, then q_{n+1} = q* + D⁻¹Cᵀμ, a sum over the active columns of D⁻¹Cᵀ.
+    fn solve_contact(
+        &mut self,
+        next: &mut [f64],
+        prediction: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+    ) -> Result<PdasReport, Error> {
+        let system = self.data.system(self.start);
+        let report = self.active_set.solve(
+            &mut &system.delassus,
+            prediction,
+            lower,
+            upper,
+            states,
+            settings,
+        );
+        if report.status.is_solved() {
+            self.unconstrained.copy_from_slice(next);
+            self.corrected = true;
+            let multipliers = self.active_set.lambda();
+            for (i, _) in states.iter().enumerate().filter(|(_, s)| s.is_active()) {
+                let column = system
+                    .c_t_scaled
+                    .col(i)
+                    .try_as_col_major()
+                    .expect("owned matrices are column-major");
+                for (q, &c) in next.iter_mut().zip(column.as_slice()) {
+                    *q += multipliers[i] * c;
+                }
             }
         }
+        Ok(report)
+    }
+
+    fn contact_multipliers(&self) -> &[f64] {
+        self.active_set.lambda()
     }
 
     fn constrained_values(&self, field: &[f64], out: &mut [f64]) {

@@ -2,7 +2,7 @@
 //! solve, and what a step reports.
 
 use super::auto;
-use super::backend::{BackendDelassus, LinearBackend, StepForcing};
+use super::backend::{LinearBackend, StepForcing};
 use super::energy::{DiscreteEnergy, EnergyFlows};
 use super::impact::{newton_bounds, Law, VertexHistory, VertexMotion};
 use super::outputs::Outputs;
@@ -10,7 +10,8 @@ use super::preload::static_preload;
 use super::reference::solve_reference;
 use super::state::{state_code, State};
 use super::FreeSystem;
-use crate::contact::{ActiveSetSolver, BoundState, BoxQp, PdasReport, PdasSettings};
+use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
+use crate::contact::{BoundState, BoxQp, PdasReport, PdasSettings};
 use crate::error::Error;
 use crate::scene::{LinearChoice, ObstacleSide, Outside, QpChoice, Scene};
 use crate::system::PlateSystem;
@@ -26,7 +27,8 @@ pub enum StepPath {
     ActiveSet,
     /// clarabel, because `solver.qp = clarabel`.
     Clarabel,
-    /// clarabel, after the active-set method did not converge.
+    /// clarabel, after the active-set method did not converge or its answer failed the bound
+    /// check.
     ClarabelFallback,
 }
 
@@ -71,6 +73,17 @@ pub const RESTORE_BOUND_TOLERANCE: f64 = 1e-6;
 /// far less than a restored state ([`RESTORE_BOUND_TOLERANCE`]): it is a deliberate change, and
 /// whatever it accepts a restore of the state taken after it accepts too.
 const MOVE_BOUND_TOLERANCE: f64 = 1e-12;
+
+/// Relative tolerance of the bounds on the active-set method's answer, as a fraction of the gap
+/// (g2 − g1, or |g| with one obstacle), before the step accepts it. An exact solve puts an active
+/// vertex on its bound to round-off of the displacements, which stay within the gap (the stability
+/// matrix asserts 1e-9 of the gap on extreme scenes and measures far less); an answer further out
+/// is no solution of the step's QP (at a load of 1e20 Pa the method's own convergence test,
+/// relative to the largest predicted value, can accept one), and clarabel solves the step instead.
+/// Clarabel's answer is then held to [`RESTORE_BOUND_TOLERANCE`], looser because an unpolished
+/// interior-point answer may lie a few 1e-8 m out, and equal to it so that every accepted step
+/// leaves a state that restores.
+const ACTIVE_SET_BOUND_TOLERANCE: f64 = 1e-9;
 
 /// Relative tolerance of the sign of a restored contact force, as a fraction of the force that
 /// moves the hardest-to-move constrained vertex across the gap in one step, max_i A_ii·gap/Δt².
@@ -124,7 +137,6 @@ pub struct Stepper {
     history: VertexHistory,
     /// The contact state of each constrained vertex: the active-set warm start.
     states: Vec<BoundState>,
-    active_set: ActiveSetSolver,
     active_set_settings: PdasSettings,
     /// Contact force at each constrained vertex after the last step (N); at n = 0 the static
     /// contact forces of the preload.
@@ -148,6 +160,8 @@ pub struct Stepper {
     trial_states: Vec<BoundState>,
     trial_forces: Vec<f64>,
     prediction: Vec<f64>,
+    /// w_{n+1} at the constrained vertices after the contact solve, for its bound check.
+    solved: Vec<f64>,
     lower: Vec<f64>,
     upper: Vec<f64>,
 }
@@ -156,23 +170,29 @@ impl Stepper {
     /// Assembles the plate, chooses and builds the linear backend, computes the initial state
     /// (static equilibrium under the preload, with contact if it pushes into an obstacle, about
     /// the base position `initial_base` (m)), released at rest.
+    ///
+    /// A scene whose estimated memory ([`MemoryEstimate`]) exceeds [`DEFAULT_MEMORY_BUDGET`] is
+    /// refused before anything is assembled, with an error that names the estimate, its largest
+    /// part and the budget.
     pub fn new(scene: &Scene, initial_base: f64) -> Result<Stepper, Error> {
+        check_set_up(scene)?;
         let plate = PlateSystem::new(scene)?;
         Stepper::from_system(scene, &plate, initial_base)
     }
 
-    /// As [`Stepper::new`], reusing an assembled plate of the same scene.
+    /// As [`Stepper::new`], reusing an assembled plate of the same scene (the memory budget is
+    /// checked for the rest of the set-up and the run).
     pub fn from_system(
         scene: &Scene,
         plate: &PlateSystem,
         initial_base: f64,
     ) -> Result<Stepper, Error> {
-        scene.validate()?;
+        check_set_up(scene)?;
         check_base(scene, 0.0, initial_base)?;
         let free = Arc::new(FreeSystem::new(scene, plate));
         let linear = auto::resolve(scene.solver.linear, plate.free.len());
         let preload = static_preload(scene, &free, initial_base)?;
-        let backend = auto::build(linear, scene, plate, &free)?;
+        let backend = auto::build(linear, scene, &free)?;
         let mut field = vec![0.0; backend.dimension()];
         backend.field_of_free_dofs(&preload.displacement, &mut field);
         let m = free.constrained.len();
@@ -198,13 +218,13 @@ impl Stepper {
             law: Law::of(&scene.solver),
             history: VertexHistory::new(m),
             states: preload.states,
-            active_set: ActiveSetSolver::new(),
             active_set_settings: PdasSettings::default(),
             forces: preload.forces,
             initial_warning: preload.warning,
             trial_states: vec![BoundState::Free; m],
             trial_forces: vec![0.0; m],
             prediction: vec![0.0; m],
+            solved: vec![0.0; m],
             lower: vec![0.0; m],
             upper: vec![0.0; m],
             free,
@@ -429,7 +449,7 @@ impl Stepper {
             current,
             next,
         } = &mut self.levels;
-        let mut sums = self.backend.predict(previous, current, &forcing, next);
+        let mut sums = self.backend.predict(previous, current, &forcing, next)?;
         if !sums.norm_squared.is_finite() {
             return Err(self.overflow("the unconstrained displacement", t_next, base_next));
         }
@@ -473,16 +493,44 @@ impl Stepper {
                 warning = polish_warning;
                 (StepPath::Clarabel, Some(mu))
             } else {
-                match self.solve_with_active_set() {
+                let tolerance = ACTIVE_SET_BOUND_TOLERANCE * self.scene.gap();
+                let failure = match self.solve_with_active_set()? {
+                    // The method's own test keeps its y within `solved_within` of the bounds, and
+                    // the field's constrained values agree with its y to round-off far below
+                    // that (about 3nε of the same scale, against its tol = 1e-11): when
+                    // `solved_within` is below the tolerance, the check's O(mn) product (modal
+                    // backend) is not needed. It is above when the data's scale is over 100 times
+                    // the gap's, as at the huge loads whose answer may be garbage.
+                    Ok((mu, solved_within)) if solved_within <= tolerance => Ok(mu),
+                    Ok((mu, _)) => match self.first_past_bound(tolerance) {
+                        None => Ok(mu),
+                        Some(past) => Err(format!(
+                            "the active-set method reported a solution with {}",
+                            past.describe(tolerance)
+                        )),
+                    },
+                    Err(report) => Err(format!(
+                        "the active-set method did not converge ({:?} after {} iterations and \
+                         {} safeguard iterations)",
+                        report.status, report.iterations, report.safeguard_iterations
+                    )),
+                };
+                match failure {
                     Ok(mu) => (StepPath::ActiveSet, Some(mu)),
-                    Err(report) => {
-                        let (mu, polish_warning) = self.solve_with_clarabel(&forcing)?;
-                        let fallback = format!(
-                            "at t = {t_next} s the active-set method did not converge \
-                             ({:?} after {} iterations and {} safeguard iterations): clarabel \
-                             solved the step instead",
-                            report.status, report.iterations, report.safeguard_iterations
-                        );
+                    Err(reason) => {
+                        let (mu, polish_warning) =
+                            self.solve_with_clarabel(&forcing).map_err(|e| {
+                                Error::ContactSolver(format!(
+                                    "at t = {t_next} s (base displacement {base_next:e} m, \
+                                     load.pressure {:e} Pa) {reason}, and the clarabel fallback \
+                                     failed too ({e}): the step is refused and the state stays \
+                                     at t = {} s",
+                                    self.scene.load.pressure,
+                                    self.time()
+                                ))
+                            })?;
+                        let fallback =
+                            format!("at t = {t_next} s {reason}: clarabel solved the step instead");
                         warning = Some(match polish_warning {
                             Some(w) => format!("{fallback}; {w}"),
                             None => fallback,
@@ -492,6 +540,20 @@ impl Stepper {
                 }
             }
         };
+        if matches!(path, StepPath::Clarabel | StepPath::ClarabelFallback) {
+            // Clarabel's answer is checked too (the active-set one was, to a tighter tolerance):
+            // no step is accepted with a vertex past its bounds by more than a restored state may be.
+            let tolerance = RESTORE_BOUND_TOLERANCE * self.scene.gap();
+            if let Some(past) = self.first_past_bound(tolerance) {
+                return Err(Error::ContactSolver(format!(
+                    "at t = {t_next} s (base displacement {base_next:e} m, load.pressure {:e} Pa) \
+                     the contact solve left {}: the step is refused and the state stays at t = {} s",
+                    self.scene.load.pressure,
+                    past.describe(tolerance),
+                    self.time()
+                )));
+            }
+        }
         // The step's equation times Δt² is the QP's optimality condition A w − b = Bᵀμ, so
         // f = μ/Δt²; the start step's equation is multiplied by Δt²/2 (its
         // 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 gives b_0 = M u_0 + ½Δt²F̄_0), so there
@@ -727,32 +789,55 @@ impl Stepper {
         }
     }
 
-    /// The exact active-set method on the Delassus operator, warm-started from the last step's
-    /// contact states, into the trial states; its report when it does not converge (the caller
-    /// falls back to clarabel).
-    fn solve_with_active_set(&mut self) -> Result<Vec<f64>, PdasReport> {
-        let mut delassus = BackendDelassus {
-            backend: &mut *self.backend,
-            dim: self.prediction.len(),
+    /// The first constrained vertex of the next level (the contact solve's answer) that lies past
+    /// its bound of this step by more than `tolerance` (m), lower bounds first; a non-finite value
+    /// counts as past.
+    fn first_past_bound(&mut self, tolerance: f64) -> Option<PastBound> {
+        self.backend
+            .constrained_values(&self.levels.next, &mut self.solved);
+        let solved = &self.solved;
+        let find = |side, bound: &[f64], inside: &dyn Fn(f64, f64) -> bool| {
+            (0..solved.len())
+                .find(|&i| !inside(solved[i], bound[i]))
+                .map(|vertex| PastBound {
+                    side,
+                    vertex,
+                    value: solved[vertex],
+                    bound: bound[vertex],
+                })
         };
+        find(ObstacleSide::Lower, &self.lower, &|w, lo| {
+            w >= lo - tolerance
+        })
+        .or_else(|| {
+            find(ObstacleSide::Upper, &self.upper, &|w, hi| {
+                w <= hi + tolerance
+            })
+        })
+    }
+
+    /// The backend's exact active-set method, warm-started from the last step's contact states,
+    /// into the trial states and the next level: the multipliers and the report's
+    /// [`PdasReport::bound_tolerance`], or the report when it does not converge (the caller falls
+    /// back to clarabel).
+    fn solve_with_active_set(&mut self) -> Result<Result<(Vec<f64>, f64), PdasReport>, Error> {
         self.trial_states.copy_from_slice(&self.states);
-        let report = self.active_set.solve(
-            &mut delassus,
+        let report = self.backend.solve_contact(
+            &mut self.levels.next,
             &self.prediction,
             &self.lower,
             &self.upper,
             &mut self.trial_states,
             &self.active_set_settings,
-        );
-        if !report.status.is_solved() {
-            return Err(report);
-        }
-        let mu = self.active_set.lambda().to_vec();
-        let active: Vec<usize> = (0..mu.len())
-            .filter(|&i| self.trial_states[i].is_active())
-            .collect();
-        self.backend.correct(&mut self.levels.next, &active, &mu);
-        Ok(mu)
+        )?;
+        Ok(if report.status.is_solved() {
+            Ok((
+                self.backend.contact_multipliers().to_vec(),
+                report.bound_tolerance,
+            ))
+        } else {
+            Err(report)
+        })
     }
 
     /// clarabel on the full primal QP min ½wᵀAw − bᵀw over the box, into the trial states;
@@ -991,6 +1076,45 @@ enum LevelOutside {
     Base { level: usize, error: Error },
     /// A constrained vertex of that level lies past an obstacle.
     Vertex { level: usize, outside: Outside },
+}
+
+/// The checks a scene must pass before anything is set up: its parameters, then its estimated
+/// memory against [`DEFAULT_MEMORY_BUDGET`] (docs/contact.md, "Memory").
+fn check_set_up(scene: &Scene) -> Result<(), Error> {
+    scene.validate()?;
+    MemoryEstimate::of(scene).check(DEFAULT_MEMORY_BUDGET)
+}
+
+/// A constrained vertex of a step's answer found past its bound of that step.
+#[derive(Clone, Copy, Debug)]
+struct PastBound {
+    side: ObstacleSide,
+    /// Index among the constrained vertices.
+    vertex: usize,
+    /// Its displacement relative to the base, w (m).
+    value: f64,
+    /// Its bound: the obstacle's level relative to the base, or the impact law's bound (m).
+    bound: f64,
+}
+
+impl PastBound {
+    /// "constrained vertex 12 at w = … m relative to the base, past its lower bound … m (the
+    /// lower obstacle or the impact law's bound) by … m, more than the tolerance of … m".
+    fn describe(&self, tolerance: f64) -> String {
+        let side = match self.side {
+            ObstacleSide::Lower => "lower",
+            ObstacleSide::Upper => "upper",
+        };
+        format!(
+            "constrained vertex {} at w = {:e} m relative to the base, past its {side} bound {:e} m \
+             (the {side} obstacle or the impact law's bound) by {:e} m, more than the tolerance \
+             of {tolerance:e} m",
+            self.vertex,
+            self.value,
+            self.bound,
+            (self.value - self.bound).abs()
+        )
+    }
 }
 
 /// The base must stay strictly inside the gap (docs/model.md).
