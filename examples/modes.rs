@@ -15,6 +15,9 @@
 //! Each shape is scaled to max |φ| = 1 on the grid, with its largest-magnitude value positive
 //! (the eigenvectors are M-orthonormal and of arbitrary sign).
 
+mod common;
+
+use common::{exit_code, positive_integer, set_override};
 use plate_impact::element::ElementKind;
 use plate_impact::modes::Modes;
 use plate_impact::scene::Scene;
@@ -29,13 +32,7 @@ const USAGE: &str =
     "usage: modes <argyris|fvs> <nx> <ny> [Lx Ly] [name=value ...] [--shapes FILE [--refine K]]";
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            ExitCode::FAILURE
-        }
-    }
+    exit_code(run())
 }
 
 fn run() -> Result<(), String> {
@@ -47,13 +44,7 @@ fn run() -> Result<(), String> {
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--shapes" => shapes_path = Some(args.next().ok_or("--shapes needs a file name")?),
-            "--refine" => {
-                refine = args
-                    .next()
-                    .and_then(|k| k.parse().ok())
-                    .filter(|&k| k > 0)
-                    .ok_or("--refine needs a positive integer")?
-            }
+            "--refine" => refine = positive_integer("--refine", args.next())?,
             _ if arg.contains('=') => overrides.push(arg),
             _ => positional.push(arg),
         }
@@ -77,8 +68,7 @@ fn run() -> Result<(), String> {
         scene.plate.width = ly;
     }
     for arg in &overrides {
-        let (key, value) = arg.split_once('=').expect("holds '='");
-        scene.set(key, value).map_err(|e| e.to_string())?;
+        set_override(&mut scene, arg, USAGE)?;
     }
     let start = std::time::Instant::now();
     let plate = PlateSystem::new(&scene).map_err(|e| e.to_string())?;

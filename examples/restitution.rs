@@ -25,6 +25,9 @@
 //! medians), split into steps proven contact-free by the screening, steps checked free in full,
 //! and steps needing a QP; it prints one line per e.
 
+mod common;
+
+use common::{exit_code, positive_integer, set_override};
 use plate_impact::scene::Scene;
 use plate_impact::scheme::{StepPath, Stepper};
 use serde_json::json;
@@ -36,13 +39,7 @@ const USAGE: &str =
     "usage: restitution [--timing E1,E2,...] <scene> [key=value ...] [--csv FILE] [--every N]";
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            ExitCode::FAILURE
-        }
-    }
+    exit_code(run())
 }
 
 /// The command line.
@@ -73,19 +70,8 @@ fn parse() -> Result<Options, String> {
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--csv" => options.csv = Some(args.next().ok_or("--csv needs a file name")?),
-            "--every" => {
-                options.every = args
-                    .next()
-                    .and_then(|n| n.parse().ok())
-                    .filter(|&n| n > 0)
-                    .ok_or("--every needs a positive integer")?
-            }
-            _ => {
-                let (key, value) = arg
-                    .split_once('=')
-                    .ok_or_else(|| format!("expected key=value, got {arg}; {USAGE}"))?;
-                options.scene.set(key, value).map_err(|e| e.to_string())?;
-            }
+            "--every" => options.every = positive_integer("--every", args.next())?,
+            _ => set_override(&mut options.scene, &arg, USAGE)?,
         }
     }
     Ok(options)

@@ -22,6 +22,9 @@
 //! stderr gets the wall time, the step count, how many steps needed a QP and by which path, and
 //! µs per step.
 
+mod common;
+
+use common::{exit_code, positive_integer, set_override};
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
@@ -34,13 +37,7 @@ const USAGE: &str =
     "usage: scene <scene> [key=value ...] [--out FILE] [--every N] [--from T] [--field FILE]";
 
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            ExitCode::FAILURE
-        }
-    }
+    exit_code(run())
 }
 
 /// The command line.
@@ -69,13 +66,7 @@ fn parse() -> Result<Options, String> {
         match arg.as_str() {
             "--out" => options.out = Some(value("a file name")?),
             "--field" => options.field = Some(value("a file name")?),
-            "--every" => {
-                options.every = value("a positive integer")?
-                    .parse()
-                    .ok()
-                    .filter(|&n| n > 0)
-                    .ok_or("--every needs a positive integer")?
-            }
+            "--every" => options.every = positive_integer("--every", args.next())?,
             "--from" => {
                 options.from = value("a time in s")?
                     .parse()
@@ -83,12 +74,7 @@ fn parse() -> Result<Options, String> {
                     .filter(|t: &f64| t.is_finite() && *t >= 0.0)
                     .ok_or("--from needs a time ≥ 0 in s")?
             }
-            _ => {
-                let (key, value) = arg
-                    .split_once('=')
-                    .ok_or_else(|| format!("expected key=value, got {arg}; {USAGE}"))?;
-                options.scene.set(key, value).map_err(|e| e.to_string())?;
-            }
+            _ => set_override(&mut options.scene, &arg, USAGE)?,
         }
     }
     Ok(options)

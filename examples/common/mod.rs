@@ -1,10 +1,16 @@
-//! Pieces shared by the study examples (`accuracy`, `statistics`): the output directory chosen
-//! from the command line, writing its files, checking them, the plotting script run with the
-//! project's Python, the element names used in their CSVs, and the exit code of a study.
+//! Pieces shared by the examples: the exit code of a run, the command-line values they parse
+//! alike (a positive count, a `key=value` scene override) and, for the studies (`accuracy`,
+//! `statistics`), the output directory chosen from the command line, writing its files, checking
+//! them, the plotting script run with the project's Python, and the element names of their CSVs.
+
+// Each example compiles this module on its own and uses a part of it.
+#![allow(dead_code)]
 
 use plate_impact::element::ElementKind;
+use plate_impact::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::str::FromStr;
 
 /// The CSV name of an element.
 pub fn element_name(e: ElementKind) -> &'static str {
@@ -14,7 +20,7 @@ pub fn element_name(e: ElementKind) -> &'static str {
     }
 }
 
-/// The exit code of a study: success, or its error message on stderr and failure.
+/// The exit code of a run: success, or its error message on stderr and failure.
 pub fn exit_code(outcome: Result<(), String>) -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -23,6 +29,26 @@ pub fn exit_code(outcome: Result<(), String>) -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The value of `option` (e.g. `--every`), the next command-line argument: a whole number > 0.
+pub fn positive_integer<T: FromStr + PartialOrd + From<u8>>(
+    option: &str,
+    value: Option<String>,
+) -> Result<T, String> {
+    value
+        .and_then(|v| v.parse().ok())
+        .filter(|n| *n > T::from(0))
+        .ok_or_else(|| format!("{option} needs a positive integer"))
+}
+
+/// Sets the scene parameter of a `key=value` argument (the FMU variable names, see
+/// [`Scene::set`]); anything else is refused with `usage`.
+pub fn set_override(scene: &mut Scene, arg: &str, usage: &str) -> Result<(), String> {
+    let (key, value) = arg
+        .split_once('=')
+        .ok_or_else(|| format!("expected key=value, got {arg}; {usage}"))?;
+    scene.set(key, value).map_err(|e| e.to_string())
 }
 
 /// Where a study writes, and whether it runs in quick mode.

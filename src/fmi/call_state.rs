@@ -9,10 +9,12 @@ use super::model::Phase;
 use std::fmt::Debug;
 
 /// Declares a version's `Function` enum (one variant per function that takes an instance, named
-/// without the version prefix) and its list `Function::ALL`, in the order given, from one list
-/// of names; the attributes given first document the enum.
+/// without the version prefix `$prefix`) and its list `Function::ALL`, in the order given, from
+/// one list of names; the attributes given first document the enum. Its [`CallTable`] reads the
+/// version's table: `Function::allowed`, the mask of the states (`Mode::bit`) it may be called
+/// in.
 macro_rules! call_functions {
-    ($(#[$attr:meta])* ; $($name:ident,)*) => {
+    ($prefix:literal, $(#[$attr:meta])* ; $($name:ident,)*) => {
         $(#[$attr])*
         #[derive(Clone, Copy, Debug, PartialEq, Eq)]
         #[allow(missing_docs)]
@@ -23,6 +25,18 @@ macro_rules! call_functions {
         impl Function {
             /// Every function, in the order given.
             pub const ALL: &[Function] = &[$(Function::$name,)*];
+        }
+
+        impl $crate::fmi::call_state::CallTable for Function {
+            type Mode = Mode;
+
+            fn allowed_in(self, mode: Mode) -> bool {
+                self.allowed() & mode.bit() != 0
+            }
+
+            fn name(self) -> String {
+                format!(concat!($prefix, "{:?}"), self)
+            }
         }
     };
 }
@@ -65,5 +79,21 @@ pub trait CallTable: Copy + Debug {
         Err(format!(
             "not allowed in the {mode:?} state (allowed in {allowed:?})"
         ))
+    }
+}
+
+/// Checks a version's table against the standard's, transcribed as (C name, row) in the order of
+/// `functions`: the row has one mark per state of [`CallState::ALL`], `x` where the call is
+/// allowed.
+#[cfg(test)]
+pub(crate) fn assert_standard_table<F: CallTable>(functions: &[F], standard: &[(&str, &str)]) {
+    assert_eq!(functions.len(), standard.len());
+    for (&function, &(name, row)) in functions.iter().zip(standard) {
+        assert_eq!(function.name(), name);
+        assert_eq!(row.len(), F::Mode::ALL.len(), "{name}");
+        for (&mode, mark) in F::Mode::ALL.iter().zip(row.chars()) {
+            assert_eq!(function.allowed_in(mode), mark == 'x', "{name} in {mode:?}");
+            assert_eq!(function.check(mode).is_ok(), mark == 'x');
+        }
     }
 }

@@ -23,6 +23,15 @@ pub unsafe fn c_str<'a>(p: *const c_char) -> Option<Cow<'a, str>> {
     }
 }
 
+/// Reads a C string argument into an owned string; empty if the pointer is null.
+///
+/// # Safety
+/// As for [`c_str`].
+pub unsafe fn owned_c_str(p: *const c_char) -> String {
+    // SAFETY: by the function's contract.
+    unsafe { c_str(p) }.map_or_else(String::new, Cow::into_owned)
+}
+
 /// A slice from a C array of `n` elements; an empty slice for n = 0 whatever the pointer.
 ///
 /// # Safety

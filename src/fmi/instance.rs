@@ -142,22 +142,25 @@ fn start_sizes(description: &Description) -> Vec<u64> {
 
 impl<V: Version, M: Model> Instance<V, M> {
     /// Instantiation (Co-Simulation): checks the importer's token against the model description.
+    /// A refusal is also sent to `sink` under logStatusError, so that the host learns why it got
+    /// no instance.
     pub fn new(
         name: &str,
         token: &str,
         logging_on: bool,
         sink: Option<LogSink>,
-    ) -> Result<Instance<V, M>, (Option<LogSink>, String)> {
+    ) -> Result<Instance<V, M>, String> {
         let description = V::description::<M>();
         if token != description.token {
             let (function, what) = V::INSTANTIATE;
-            return Err((
-                sink,
-                format!(
-                    "{function}: {what} {token:?} does not match this FMU's {:?}: the modelDescription.xml and the binary come from different builds",
-                    description.token
-                ),
-            ));
+            let message = format!(
+                "{function}: {what} {token:?} does not match this FMU's {:?}: the modelDescription.xml and the binary come from different builds",
+                description.token
+            );
+            if let Some(mut sink) = sink {
+                sink(Status::Error, LOG_ERROR, &message);
+            }
+            return Err(message);
         }
         Ok(Instance {
             name: name.to_string(),

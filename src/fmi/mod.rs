@@ -28,4 +28,6 @@ pub mod model;
 pub mod plate;
 pub mod serialized;
 pub mod status;
+#[cfg(test)]
+mod test_host;
 pub mod variables;

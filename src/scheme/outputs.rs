@@ -34,3 +34,41 @@ pub struct Outputs {
     /// Energy removed by damping since t_1 (J).
     pub damping_loss: f64,
 }
+
+/// Declares the real fields of [`Outputs`], in declaration order, once for every method that
+/// goes through all of them; a struct literal without `..` makes a new field fail to compile
+/// until it is listed here.
+macro_rules! real_fields {
+    ($($field:ident),* $(,)?) => {
+        impl Outputs {
+            /// Every real output as (field name, value), in declaration order.
+            pub fn reals(&self) -> [(&'static str, f64); [$(stringify!($field)),*].len()] {
+                [$((stringify!($field), self.$field)),*]
+            }
+
+            /// The outputs whose real fields are f(self's value, `other`'s value), field by
+            /// field, with the vertex count of `self`.
+            pub fn zip_reals(&self, other: &Outputs, f: impl Fn(f64, f64) -> f64) -> Outputs {
+                Outputs {
+                    $($field: f(self.$field, other.$field),)*
+                    active_nodes: self.active_nodes,
+                }
+            }
+        }
+    };
+}
+
+real_fields!(
+    corner1,
+    corner2,
+    edge_mid,
+    energy_kinetic,
+    energy_elastic,
+    energy_total,
+    contact_force,
+    base_force,
+    base_work,
+    load_work,
+    contact_loss,
+    damping_loss,
+);

@@ -322,6 +322,13 @@ impl Stepper {
         &self.forces
     }
 
+    /// Vertices in contact after the last step (at n = 0, of the preload): `active_nodes` of
+    /// [`Stepper::outputs`], kept up to date by every step and restore, read without the O(n)
+    /// outputs.
+    pub fn active_count(&self) -> usize {
+        self.active_count
+    }
+
     /// Set when the preload's contact problem was solved less exactly than normal (clarabel's
     /// answer could not be polished), saying so.
     pub fn initial_warning(&self) -> Option<&str> {

@@ -58,21 +58,9 @@ pub enum CommunicationPoint {
 /// one, with outputs `next` (module docs): continuous outputs interpolated linearly, the contact
 /// state of `previous`.
 pub fn interpolate(previous: &Outputs, next: &Outputs, theta: f64) -> Outputs {
-    let mix = |a: f64, b: f64| mix(a, b, theta);
     Outputs {
-        corner1: mix(previous.corner1, next.corner1),
-        corner2: mix(previous.corner2, next.corner2),
-        edge_mid: mix(previous.edge_mid, next.edge_mid),
-        energy_kinetic: mix(previous.energy_kinetic, next.energy_kinetic),
-        energy_elastic: mix(previous.energy_elastic, next.energy_elastic),
-        energy_total: mix(previous.energy_total, next.energy_total),
-        active_nodes: previous.active_nodes,
         contact_force: previous.contact_force,
-        base_force: mix(previous.base_force, next.base_force),
-        base_work: mix(previous.base_work, next.base_work),
-        load_work: mix(previous.load_work, next.load_work),
-        contact_loss: mix(previous.contact_loss, next.contact_loss),
-        damping_loss: mix(previous.damping_loss, next.damping_loss),
+        ..previous.zip_reals(next, |a, b| mix(a, b, theta))
     }
 }
 
@@ -146,30 +134,16 @@ impl CommunicationPoint {
                 grid.elapsed(n)
             ));
         }
-        let o = previous;
-        let values = [
-            ("corner1", o.corner1),
-            ("corner2", o.corner2),
-            ("edge_mid", o.edge_mid),
-            ("energy_kinetic", o.energy_kinetic),
-            ("energy_elastic", o.energy_elastic),
-            ("energy_total", o.energy_total),
-            ("contact_force", o.contact_force),
-            ("base_force", o.base_force),
-            ("base_work", o.base_work),
-            ("load_work", o.load_work),
-            ("contact_loss", o.contact_loss),
-            ("damping_loss", o.damping_loss),
-        ];
-        if let Some((name, x)) = values.iter().find(|(_, x)| !x.is_finite()) {
+        let reals = previous.reals();
+        if let Some((name, x)) = reals.iter().find(|(_, x)| !x.is_finite()) {
             return Err(format!(
                 "communication point: the previous grid point's {name} = {x} is not finite"
             ));
         }
-        if o.active_nodes > constrained {
+        if previous.active_nodes > constrained {
             return Err(format!(
                 "communication point: the previous grid point has {} vertices in contact, more than the {constrained} constrained ones",
-                o.active_nodes
+                previous.active_nodes
             ));
         }
         Ok(())

@@ -19,7 +19,7 @@
 use super::call_state::Function;
 use super::instance::Instance;
 use crate::fmi::c_api::{self, done, guarded};
-use crate::fmi::ffi::{c_str, null_argument, slice, slice_mut, to_cstring};
+use crate::fmi::ffi::{null_argument, owned_c_str, slice, slice_mut, to_cstring};
 use crate::fmi::logger::{LogSink, LOG_ERROR};
 use crate::fmi::plate::PlateModel;
 use crate::fmi::status::{Failure, Status};
@@ -172,9 +172,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         // only the logger and the environment are copied out of it.
         let callbacks = unsafe { &*functions };
         // SAFETY: FMI passes NUL-terminated strings (or null, checked inside).
-        let name = unsafe { c_str(instance_name) }
-            .map(|s| s.into_owned())
-            .unwrap_or_default();
+        let name = unsafe { owned_c_str(instance_name) };
         let host = callbacks.logger.map(|logger| HostLogger {
             logger,
             environment: callbacks.component_environment,
@@ -200,9 +198,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             return std::ptr::null_mut();
         }
         // SAFETY: as for the name.
-        let guid = unsafe { c_str(fmu_guid) }
-            .map(|s| s.into_owned())
-            .unwrap_or_default();
+        let guid = unsafe { owned_c_str(fmu_guid) };
         let sink: Option<LogSink> = host.map(|h| {
             Box::new(move |status: Status, category: &str, message: &str| {
                 h.send(status, category, message)
@@ -210,12 +206,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         });
         match Component::new(&name, &guid, logging_on != FMI2_FALSE, sink) {
             Ok(inst) => Box::into_raw(Box::new(inst)) as fmi2Component,
-            Err((sink, message)) => {
-                if let Some(mut sink) = sink {
-                    sink(Status::Error, LOG_ERROR, &message);
-                }
-                std::ptr::null_mut()
-            }
+            Err(_logged) => std::ptr::null_mut(),
         }
     }));
     outcome.unwrap_or(std::ptr::null_mut())

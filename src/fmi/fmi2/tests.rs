@@ -6,26 +6,18 @@
 
 use super::call_state::{Function, Mode};
 use super::instance::{Instance, StoredState};
-use crate::fmi::call_state::{CallState, CallTable};
-use crate::fmi::logger::{LogSink, LOG_ALL, LOG_ERROR};
+use crate::fmi::call_state::CallState;
+use crate::fmi::logger::{LOG_ALL, LOG_ERROR};
 use crate::fmi::plate::{PlateModel, LOG_CONTACT};
 use crate::fmi::serialized;
 use crate::fmi::status::{Failure, Status};
+use crate::fmi::test_host::{assert_table_holds, real, recorded_instance, Messages};
 use crate::fmi::variables::{vr, Causality, Kind, FMI2};
-use std::sync::{Arc, Mutex};
 
 type Plate = Instance<PlateModel>;
-type Messages = Arc<Mutex<Vec<(Status, String, String)>>>;
 
 fn instance() -> (Plate, Messages) {
-    let messages: Messages = Arc::default();
-    let m = messages.clone();
-    let sink: LogSink =
-        Box::new(move |s, c, msg| m.lock().unwrap().push((s, c.to_string(), msg.to_string())));
-    let inst = Plate::new("test", FMI2.token, false, Some(sink))
-        .ok()
-        .unwrap();
-    (inst, messages)
+    recorded_instance()
 }
 
 /// A small mesh keeps each set-up to a millisecond.
@@ -42,12 +34,6 @@ fn initialized() -> (Plate, Messages) {
     inst.enter_initialization_mode().unwrap();
     inst.exit_initialization_mode().unwrap();
     (inst, m)
-}
-
-fn real(inst: &mut Plate, vr: u32) -> f64 {
-    let mut v = [0.0];
-    inst.get_real(&[vr], &mut v).unwrap();
-    v[0]
 }
 
 /// Everything the host can observe: every variable readable now, and the serialized state.
@@ -169,27 +155,12 @@ fn call(
 /// standard's table (`call_state.rs`) forbids it, and never for that reason elsewhere.
 #[test]
 fn the_standards_table_holds_through_the_instance() {
-    let (mut donor, _) = small();
-    let state = donor.get_state().unwrap();
-    let bytes = donor
-        .serialized(Function::SerializeFMUstate, &state)
-        .unwrap()
-        .to_vec();
-    for &mode in Mode::ALL.iter().filter(|m| m.reachable()) {
-        for &function in Function::ALL {
-            let mut inst = in_mode(mode);
-            let result = call(&mut inst, function, &state, &bytes);
-            let refused_by_table = result
-                .as_ref()
-                .is_err_and(|f| f.message.starts_with("not allowed"));
-            assert_eq!(
-                refused_by_table,
-                !function.allowed_in(mode),
-                "{} in {mode:?}: {result:?}",
-                function.name()
-            );
-        }
-    }
+    let modes: Vec<Mode> = Mode::ALL
+        .iter()
+        .copied()
+        .filter(|m| m.reachable())
+        .collect();
+    assert_table_holds(&modes, Function::ALL, in_mode, call);
 }
 
 /// Defect 1: a rejected multi-value set was half-applied.

@@ -12,7 +12,7 @@
 //! functions are not allowed in Co-Simulation; the dependency queries, for which the standard
 //! names no state, are allowed where the FMU state functions are. fmi3FreeInstance always frees.
 
-use crate::fmi::call_state::{call_functions, CallState, CallTable};
+use crate::fmi::call_state::{call_functions, CallState};
 use crate::fmi::model::Phase;
 use serde::{Deserialize, Serialize};
 
@@ -79,6 +79,7 @@ impl Mode {
 }
 
 call_functions! {
+    "fmi3",
     /// The FMI 3.0 functions that take an instance and return a status (fmi3FreeInstance
     /// always frees; fmi3GetVersion and the instantiation functions take no instance). Each
     /// is `fmi3` followed by its name.
@@ -219,21 +220,10 @@ impl Function {
     }
 }
 
-impl CallTable for Function {
-    type Mode = Mode;
-
-    fn allowed_in(self, mode: Mode) -> bool {
-        self.allowed() & mode.bit() != 0
-    }
-
-    fn name(self) -> String {
-        format!("fmi3{self:?}")
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fmi::call_state::{assert_standard_table, CallTable};
 
     /// The standard's rules transcribed state by state, row by row: columns Instantiated,
     /// ConfigurationMode, InitializationMode, EventMode, StepMode, IntermediateUpdateMode,
@@ -313,14 +303,7 @@ mod tests {
 
     #[test]
     fn masks_equal_the_standards_rules() {
-        assert_eq!(Function::ALL.len(), STANDARD.len());
-        for (&function, (name, row)) in Function::ALL.iter().zip(STANDARD) {
-            assert_eq!(function.name(), name);
-            for (&mode, mark) in Mode::ALL.iter().zip(row.chars()) {
-                assert_eq!(function.allowed_in(mode), mark == 'x', "{name} in {mode:?}");
-                assert_eq!(function.check(mode).is_ok(), mark == 'x');
-            }
-        }
+        assert_standard_table(Function::ALL, &STANDARD);
     }
 
     #[test]

@@ -25,7 +25,7 @@
 use super::call_state::Function;
 use super::instance::Instance;
 use crate::fmi::c_api::{self, done, guarded};
-use crate::fmi::ffi::{c_str, null_argument, slice, slice_mut, to_cstring};
+use crate::fmi::ffi::{null_argument, owned_c_str, slice, slice_mut, to_cstring};
 use crate::fmi::logger::{LogSink, LOG_ERROR};
 use crate::fmi::plate::PlateModel;
 use crate::fmi::status::{Failure, Status};
@@ -259,9 +259,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             std::ptr::null_mut()
         };
         // SAFETY: FMI passes NUL-terminated strings (or null, checked inside).
-        let name = unsafe { c_str(instanceName) }
-            .map(|s| s.into_owned())
-            .unwrap_or_default();
+        let name = unsafe { owned_c_str(instanceName) };
         if name.trim().is_empty() {
             return fail("instanceName must be a non-empty string");
         }
@@ -275,9 +273,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         }
         let _ = requiredIntermediateVariables;
         // SAFETY: as for the name.
-        let token = unsafe { c_str(instantiationToken) }
-            .map(|s| s.into_owned())
-            .unwrap_or_default();
+        let token = unsafe { owned_c_str(instantiationToken) };
         let sink: Option<LogSink> = logMessage.map(|logger| {
             let host = HostLogger {
                 logger,
@@ -292,12 +288,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 instance,
                 early_return_allowed: earlyReturnAllowed,
             })) as fmi3Instance,
-            Err((sink, message)) => {
-                if let Some(mut sink) = sink {
-                    sink(Status::Error, LOG_ERROR, &message);
-                }
-                std::ptr::null_mut()
-            }
+            Err(_logged) => std::ptr::null_mut(),
         }
     }));
     outcome.unwrap_or(std::ptr::null_mut())
@@ -371,24 +362,26 @@ pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
     call(instance, Function::Reset, |inst, _| done(inst.reset()))
 }
 
-/// Declares the get functions of the types this FMU has variables of.
-macro_rules! getters {
-    ($($name:ident, $function:ident, $c:ty, $method:ident;)*) => {$(
+/// Declares the get and set functions of the types this FMU has variables of: `$values` is the
+/// C array of values (`*mut` for a get, which writes them; `*const` for a set) and `$as_slice`
+/// the check that makes it a slice ([`slice_mut`] or [`slice`]).
+macro_rules! value_functions {
+    ($($name:ident, $function:ident, $values:ty, $as_slice:ident, $method:ident;)*) => {$(
         #[no_mangle]
         pub unsafe extern "C" fn $name(
             instance: fmi3Instance,
             valueReferences: *const fmi3ValueReference,
             nValueReferences: size_t,
-            values: *mut $c,
+            values: $values,
             nValues: size_t,
         ) -> fmi3Status {
             call(instance, Function::$function, |inst, _| {
-                // SAFETY: FMI passes `nValueReferences` value references and room for `nValues`
-                // values.
+                // SAFETY: FMI passes `nValueReferences` value references and `nValues` values
+                // (room for them in a get).
                 let (vrs, values) = unsafe {
                     (
                         slice(valueReferences, nValueReferences, "valueReferences")?,
-                        slice_mut(values, nValues, "values")?,
+                        $as_slice(values, nValues, "values")?,
                     )
                 };
                 done(inst.$method(vrs, values))
@@ -397,43 +390,15 @@ macro_rules! getters {
     )*};
 }
 
-getters! {
-    fmi3GetFloat64, GetFloat64, fmi3Float64, get_real;
-    fmi3GetInt32, GetInt32, fmi3Int32, get_integer;
-    fmi3GetUInt64, GetUInt64, fmi3UInt64, get_uint64;
-    fmi3GetBoolean, GetBoolean, fmi3Boolean, get_boolean;
-}
-
-/// Declares the set functions of the types this FMU has variables of.
-macro_rules! setters {
-    ($($name:ident, $function:ident, $c:ty, $method:ident;)*) => {$(
-        #[no_mangle]
-        pub unsafe extern "C" fn $name(
-            instance: fmi3Instance,
-            valueReferences: *const fmi3ValueReference,
-            nValueReferences: size_t,
-            values: *const $c,
-            nValues: size_t,
-        ) -> fmi3Status {
-            call(instance, Function::$function, |inst, _| {
-                // SAFETY: FMI passes `nValueReferences` value references and `nValues` values.
-                let (vrs, values) = unsafe {
-                    (
-                        slice(valueReferences, nValueReferences, "valueReferences")?,
-                        slice(values, nValues, "values")?,
-                    )
-                };
-                done(inst.$method(vrs, values))
-            })
-        }
-    )*};
-}
-
-setters! {
-    fmi3SetFloat64, SetFloat64, fmi3Float64, set_real;
-    fmi3SetInt32, SetInt32, fmi3Int32, set_integer;
-    fmi3SetUInt64, SetUInt64, fmi3UInt64, set_uint64;
-    fmi3SetBoolean, SetBoolean, fmi3Boolean, set_boolean;
+value_functions! {
+    fmi3GetFloat64, GetFloat64, *mut fmi3Float64, slice_mut, get_real;
+    fmi3GetInt32, GetInt32, *mut fmi3Int32, slice_mut, get_integer;
+    fmi3GetUInt64, GetUInt64, *mut fmi3UInt64, slice_mut, get_uint64;
+    fmi3GetBoolean, GetBoolean, *mut fmi3Boolean, slice_mut, get_boolean;
+    fmi3SetFloat64, SetFloat64, *const fmi3Float64, slice, set_real;
+    fmi3SetInt32, SetInt32, *const fmi3Int32, slice, set_integer;
+    fmi3SetUInt64, SetUInt64, *const fmi3UInt64, slice, set_uint64;
+    fmi3SetBoolean, SetBoolean, *const fmi3Boolean, slice, set_boolean;
 }
 
 /// Declares the get and set functions of the types this FMU has no variable of.

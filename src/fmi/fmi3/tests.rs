@@ -5,26 +5,17 @@
 
 use super::call_state::{Function, Mode};
 use super::instance::{Instance, StoredState};
-use crate::fmi::call_state::{CallState, CallTable};
+use crate::fmi::call_state::CallState;
 use crate::fmi::fmi2;
-use crate::fmi::logger::LogSink;
 use crate::fmi::plate::PlateModel;
 use crate::fmi::status::{Failure, Status};
-use crate::fmi::variables::{vr, Causality, Kind, FMI2, FMI3};
-use std::sync::{Arc, Mutex};
+use crate::fmi::test_host::{assert_table_holds, real, recorded_instance, Messages};
+use crate::fmi::variables::{vr, Causality, Kind, FMI2};
 
 type Plate = Instance<PlateModel>;
-type Messages = Arc<Mutex<Vec<(Status, String, String)>>>;
 
 fn instance() -> (Plate, Messages) {
-    let messages: Messages = Arc::default();
-    let m = messages.clone();
-    let sink: LogSink =
-        Box::new(move |s, c, msg| m.lock().unwrap().push((s, c.to_string(), msg.to_string())));
-    let inst = Plate::new("test", FMI3.token, false, Some(sink))
-        .ok()
-        .unwrap();
-    (inst, messages)
+    recorded_instance()
 }
 
 /// A 3 × 2 mesh (each set-up about a millisecond), with plate.displacement sized for it.
@@ -50,12 +41,6 @@ fn stepping(amplitude: f64) -> Plate {
     inst.begin_initialization(Some((0.0, None))).unwrap();
     inst.exit_initialization_mode().unwrap();
     inst
-}
-
-fn real(inst: &mut Plate, vr: u32) -> f64 {
-    let mut v = [0.0];
-    inst.get_real(&[vr], &mut v).unwrap();
-    v[0]
 }
 
 /// An instance in `mode` (one this FMU can be in outside a step).
@@ -125,30 +110,12 @@ fn call(
 /// exactly where the table (`call_state.rs`) forbids it, and never for that reason elsewhere.
 #[test]
 fn the_table_holds_through_the_instance() {
-    let mut donor = small();
-    let state = donor.get_state().unwrap();
-    let bytes = donor
-        .serialized(Function::SerializeFMUState, &state)
-        .unwrap()
-        .to_vec();
-    let modes = Mode::ALL
+    let modes: Vec<Mode> = Mode::ALL
         .iter()
-        .filter(|m| m.reachable() && **m != Mode::IntermediateUpdateMode);
-    for &mode in modes {
-        for &function in Function::ALL {
-            let mut inst = in_mode(mode);
-            let result = call(&mut inst, function, &state, &bytes);
-            let refused_by_table = result
-                .as_ref()
-                .is_err_and(|f| f.message.starts_with("not allowed"));
-            assert_eq!(
-                refused_by_table,
-                !function.allowed_in(mode),
-                "{} in {mode:?}: {result:?}",
-                function.name()
-            );
-        }
-    }
+        .copied()
+        .filter(|m| m.reachable() && *m != Mode::IntermediateUpdateMode)
+        .collect();
+    assert_table_holds(&modes, Function::ALL, in_mode, call);
 }
 
 /// Every output, read after the same calls on an FMI 2.0 and an FMI 3.0 instance: the same bits.

@@ -24,6 +24,7 @@ use crate::scene::Scene;
 use crate::simulation::grid::TimeGrid;
 use crate::simulation::input::InputSample;
 use crate::simulation::{InternalStep, SetUp, Simulation};
+use std::cell::OnceCell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use values::{first_non_finite, first_past_obstacle};
 
@@ -60,6 +61,10 @@ pub struct PlateModel {
     /// Derivatives of orders 1 and 2 of the input, sent for the next communication step.
     input_derivatives: [Option<f64>; 2],
     simulation: Option<Simulation>,
+    /// [`unsound_outputs`] of `simulation`, once asked for; emptied by every access that may
+    /// change the simulation, so that a host reading its outputs one value reference at a time
+    /// checks them once per state.
+    verdict: OnceCell<Option<String>>,
     /// Whether `simulation` was set up for the current parameters, input and start time.
     current: bool,
     /// How many times the plate was assembled and its backend built (the expensive set-up).
@@ -109,6 +114,7 @@ impl PlateModel {
     /// is (reusing the assembled plate when possible).
     fn ensure_simulation(&mut self) -> Result<&Simulation, Failure> {
         if !self.current || self.simulation.is_none() {
+            self.verdict = OnceCell::new();
             self.parameters.validate()?;
             check_experiment(&self.parameters, self.start_time, self.stop_time)?;
             let (scene, start, input) = (&self.parameters, self.start_time, self.input);
@@ -140,25 +146,29 @@ impl PlateModel {
         self.full_set_ups
     }
 
+    /// The simulation, to change it (which empties the cached verdict on its outputs).
     fn running_simulation(&mut self) -> Result<&mut Simulation, Failure> {
-        self.simulation
-            .as_mut()
-            .ok_or_else(|| Failure::refused("the simulation is not available: it was never set up"))
+        self.verdict = OnceCell::new();
+        self.simulation.as_mut().ok_or_else(never_set_up)
     }
 
     /// The simulation whose outputs may be read in `phase` (set up first in Initialization mode),
     /// refused when they are unsound.
     fn readable_simulation(&mut self, phase: Phase) -> Result<&Simulation, Failure> {
-        let sim = if phase == Phase::Initialization {
-            self.ensure_simulation()?
-        } else {
-            self.running_simulation()?
-        };
-        match unsound_outputs(sim) {
-            Some(message) => Err(Failure::refused(message)),
+        if phase == Phase::Initialization {
+            self.ensure_simulation()?;
+        }
+        let sim = self.simulation.as_ref().ok_or_else(never_set_up)?;
+        match self.verdict.get_or_init(|| unsound_outputs(sim)) {
+            Some(message) => Err(Failure::refused(message.clone())),
             None => Ok(sim),
         }
     }
+}
+
+/// The refusal of a call that needs a simulation before one was set up.
+fn never_set_up() -> Failure {
+    Failure::refused("the simulation is not available: it was never set up")
 }
 
 /// The shape of the displacement field of `sim`: (ny + 1) rows along y × (nx + 1) columns along
@@ -229,6 +239,7 @@ impl Model for PlateModel {
             input: input_start(),
             input_derivatives: [None, None],
             simulation: None,
+            verdict: OnceCell::new(),
             current: false,
             full_set_ups: 0,
         }
@@ -251,11 +262,7 @@ impl Model for PlateModel {
     }
 
     fn exit_initialization(&mut self) -> Result<(), Failure> {
-        let sim = self.ensure_simulation()?;
-        match unsound_outputs(sim) {
-            Some(message) => Err(Failure::refused(message)),
-            None => Ok(()),
-        }
+        self.readable_simulation(Phase::Initialization).map(|_| ())
     }
 
     fn time(&self, phase: Phase) -> f64 {
@@ -451,6 +458,7 @@ impl Model for PlateModel {
                 "{message}. The instance is now in the Error state: restore an FMU state, or reset"
             )));
         }
+        self.verdict = OnceCell::from(None);
         self.input_derivatives = [None, None];
         Ok(StepOutcome {
             status: if summary.degraded_steps > 0 {
@@ -482,6 +490,7 @@ impl Model for PlateModel {
 
     fn restore(&mut self, snap: &PlateSnapshot, phase: Phase) -> Result<(), Failure> {
         snap.validate(phase)?;
+        self.verdict = OnceCell::new();
         match &snap.simulation {
             None => self.current = false,
             Some(state) => {
