@@ -12,7 +12,7 @@
 //! neither plots nor checks.
 //!
 //! Scenes. `forced-35hz` (base sine of 9 mm at 35 Hz, obstacles at ±10 mm) and `forced-60hz` (2 mm at
-//! 60 Hz, inside the band 40–73 Hz where the frequency sweep of docs/sweep/ impacts), each undamped
+//! 60 Hz, inside the band 39–74 Hz where the frequency sweep of docs/sweep/ impacts), each undamped
 //! (the paper's plate) and `-damped`: Rayleigh α = 2ζ₁ω₁, ζ₁ = 1 %, β = 0, with ω₁ of the paper's
 //! 10 × 7 Argyris mesh for every run (one physical plate; every mesh's ω₁ is within 0.5 % of it).
 //! They run 1 s of transient, then K = 8 windows of whole forcing periods (about 0.375 s each).

@@ -586,7 +586,7 @@ def write_markdown(study, out):
       "10 × 7 Argyris mesh, the same α on every mesh). Each runs "
       f"{float(meta['transient_s']):g} s of transient, then {meta['windows']} windows of whole "
       f"periods of about {float(meta['window_target_s']):g} s (13 periods at 35 Hz, 22 at 60 Hz), "
-      "over which the statistics are taken. 60 Hz lies in the band (40–73 Hz) where the "
+      "over which the statistics are taken. 60 Hz lies in the band (39–74 Hz) where the "
       "frequency sweep of [../sweep](../sweep) impacts at c = 2 mm.")
     w("- `energy`: the plate released from its static deflection under 107.5 kPa onto the lower "
       "obstacle (−10 mm), fixed base, undamped, 0.3 s.")
