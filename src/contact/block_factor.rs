@@ -20,12 +20,13 @@
 //! not kept across solves, see [`super::delassus`]).
 
 use super::Delassus;
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemStack, StackReq};
 use faer::linalg::cholesky::ldlt;
 use faer::linalg::triangular_solve::{
     solve_unit_lower_triangular_in_place, solve_unit_upper_triangular_in_place,
 };
 use faer::{ColMut, Mat, Par};
+use std::mem::MaybeUninit;
 
 /// Updates (indices appended or deleted) allowed between two full factorisations.
 pub const MAX_UPDATES: usize = 200;
@@ -64,6 +65,12 @@ pub struct ActiveBlockFactor {
     marked: Vec<bool>,
     removed: Vec<usize>,
     added: Vec<usize>,
+    /// The positions handed to faer's deletion, which overwrites them.
+    positions: Vec<usize>,
+    /// faer's scratch memory, kept so that a solve on a working set no larger than an earlier
+    /// one allocates nothing (scratch is written before it is read: its old contents do not
+    /// change a result).
+    scratch: Vec<MaybeUninit<u8>>,
 }
 
 impl Default for ActiveBlockFactor {
@@ -78,6 +85,8 @@ impl Default for ActiveBlockFactor {
             marked: Vec::new(),
             removed: Vec::new(),
             added: Vec::new(),
+            positions: Vec::new(),
+            scratch: Vec::new(),
         }
     }
 }
@@ -220,17 +229,16 @@ impl ActiveBlockFactor {
         }
         self.stats.full += 1;
         self.updates = 0;
-        let mut buffer = MemBuffer::new(ldlt::factor::cholesky_in_place_scratch::<f64>(
-            k,
-            Par::Seq,
-            Default::default(),
-        ));
+        let stack = scratch(
+            &mut self.scratch,
+            ldlt::factor::cholesky_in_place_scratch::<f64>(k, Par::Seq, Default::default()),
+        );
         let block = self.ld.as_mut().submatrix_mut(0, 0, k, k);
         let result = ldlt::factor::cholesky_in_place(
             block,
             Default::default(),
             Par::Seq,
-            MemStack::new(&mut buffer),
+            stack,
             Default::default(),
         );
         let positive = (0..k).all(|p| {
@@ -253,16 +261,17 @@ impl ActiveBlockFactor {
             return;
         }
         let k = self.order.len();
-        let mut positions = removed.to_vec();
-        let mut stack = MemBuffer::new(ldlt::update::delete_rows_and_cols_clobber_scratch::<f64>(
-            k,
-            positions.len(),
-        ));
+        self.positions.clear();
+        self.positions.extend_from_slice(removed);
+        let stack = scratch(
+            &mut self.scratch,
+            ldlt::update::delete_rows_and_cols_clobber_scratch::<f64>(k, removed.len()),
+        );
         ldlt::update::delete_rows_and_cols_clobber(
             self.ld.as_mut().submatrix_mut(0, 0, k, k),
-            &mut positions,
+            &mut self.positions,
             Par::Seq,
-            MemStack::new(&mut stack),
+            stack,
         );
         for &p in removed {
             self.position[self.order[p]] = usize::MAX;
@@ -317,4 +326,13 @@ impl ActiveBlockFactor {
         self.stats.appended += 1;
         Ok(())
     }
+}
+
+/// `buffer` as a stack of at least `req`, grown if it is smaller.
+fn scratch(buffer: &mut Vec<MaybeUninit<u8>>, req: StackReq) -> &mut MemStack {
+    let bytes = req.unaligned_bytes_required();
+    if buffer.len() < bytes {
+        buffer.resize(bytes, MaybeUninit::uninit());
+    }
+    MemStack::new(buffer)
 }
