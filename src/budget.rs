@@ -132,7 +132,7 @@ impl MemoryEstimate {
         let (backend_data, contact) = match backend {
             // W is part of the modal data; the active block's factor may reach m × m.
             LinearChoice::Modal => (
-                8.0 * (MODAL_DENSE_COPIES * n * n + 2.0 * m * n + m * m),
+                8.0 * (MODAL_DENSE_COPIES * n * n + 3.0 * m * n + m * m),
                 8.0 * m * m,
             ),
             _ => {

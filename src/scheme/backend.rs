@@ -87,6 +87,15 @@ pub trait LinearBackend: Send {
     /// constrained vertex, without computing those values exactly (a cheap screening test).
     /// `false` means "not proven", not "violated": the caller then evaluates the values.
     fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool;
+    /// After [`LinearBackend::prediction_proven_within`] failed on `next`: the constrained values
+    /// that the contact solve of this step starts from, exact at every vertex the backend cannot
+    /// prove inside `lower` ≤ w ≤ `upper`, and at the others possibly a stand-in value inside the
+    /// bounds, which the backend's [`LinearBackend::solve_contact`] replaces by the exact value
+    /// wherever the solution reaches it. A caller that needs every value exact (or reads them
+    /// past the contact solve) uses [`LinearBackend::constrained_values`]. By default all exact.
+    fn prediction_values(&mut self, next: &[f64], _lower: f64, _upper: f64, out: &mut [f64]) {
+        self.constrained_values(next, out);
+    }
     /// Solves the step's QP (docs/scheme.md §3) from the last prediction `next` = w* = A⁻¹b, whose
     /// constrained values are `prediction` (y* = Bw*): min ½wᵀAw − bᵀw over
     /// `lower` ≤ Bw ≤ `upper`, warm-started from the contact states `states`, which it updates.

@@ -481,8 +481,20 @@ impl Stepper {
         let (path, multipliers) = if proven {
             (StepPath::Unconstrained, None)
         } else {
-            self.backend
-                .constrained_values(&self.levels.next, &mut self.prediction);
+            // Newton's law reads the exact prediction of every vertex, clarabel none of it; the
+            // active-set method on the position law solves from stand-ins where they are proven
+            // inside (see `LinearBackend::prediction_values`).
+            if auto && self.law == Law::Position {
+                self.backend.prediction_values(
+                    &self.levels.next,
+                    lower,
+                    upper,
+                    &mut self.prediction,
+                );
+            } else {
+                self.backend
+                    .constrained_values(&self.levels.next, &mut self.prediction);
+            }
             self.lower.fill(lower);
             self.upper.fill(upper);
             let feasible = (0..m).all(|i| {
