@@ -19,7 +19,7 @@
 //!   ([`SET_UP_TRANSIENT`] bytes per entry of A_ff);
 //! * the modal backend (up to [`crate::scheme::MODAL_AUTO_LIMIT`] free dofs with `auto`): the dense
 //!   generalized eigenproblem holds [`MODAL_DENSE_COPIES`] n × n matrices at its peak, then
-//!   C = BΦ and D⁻¹Cᵀ (2 m n) and W (m²);
+//!   C = BΦ, its row-major copy and D⁻¹Cᵀ (3 m n) and W (m²);
 //! * the sparse backend: the Cholesky factor of A_ff, nnz(L) ≈ L₀ (n / n₀)^1.25 with (n₀, L₀) the
 //!   factor measured with the ordering the backend keeps (nested dissection,
 //!   [`crate::contact::ordering`]) on the 100 × 50 mesh (Argyris: 45 751 free dofs, 7 902 951
