@@ -540,7 +540,7 @@ mod tests {
     use crate::simulation::{StepPath, StepReport};
     use std::sync::{Arc, Mutex};
 
-    /// Defect 9: a step solved less exactly than the normal path was silent.
+    /// Regression: a step solved less exactly than the normal path was silent.
     #[test]
     fn degraded_steps_are_logged_as_warnings() {
         let seen = Arc::new(Mutex::new(Vec::new()));
