@@ -417,3 +417,19 @@ fn an_error_after_a_reset_does_not_bring_back_the_run_before_it() {
     let state = inst.get_state().unwrap();
     inst.set_state(&state).unwrap();
 }
+
+/// An fmi3Error before initialization ends in Terminated with parameters that are each valid
+/// but not yet together (here a base amplitude beyond the gap, which initialization would
+/// refuse): the FMU state taken there can be set again. Found by the random FMI 3.0 call
+/// sequences (`tests/fmi_c_api.rs`).
+#[test]
+fn an_fmu_state_taken_after_an_error_before_initialization_can_be_set() {
+    let mut inst = small();
+    inst.set_real(&[vr::BASE_AMPLITUDE], &[0.02]).unwrap();
+    let refused = inst.set_real(&[vr::CORNER1_DISPLACEMENT], &[0.0]);
+    let status = inst.finish(Function::SetFloat64, refused.map(|()| Status::Ok));
+    assert_eq!((status, inst.mode()), (Status::Error, Mode::Terminated));
+    let state = inst.get_state().unwrap();
+    inst.set_state(&state).unwrap();
+    assert_eq!(real(&mut inst, vr::BASE_AMPLITUDE), 0.02);
+}
