@@ -5,8 +5,8 @@
 //! where it believes the instance is: in Configuration Mode (which it tracks: entered and left
 //! by its own calls, ended by any error) an empty set only; elsewhere the FMU state, whose
 //! serialized payload names the call state, then every variable readable in that state
-//! (outputs not before initialization; the displacement field only when its structural sizes
-//! match the mesh).
+//! (outputs from Step Mode on; the displacement field only when its structural sizes match the
+//! mesh).
 
 use super::{Host, Observation, Op, ERROR, NOT_READ, OK, SLOTS};
 use crate::fmi::fmi3::exports::*;
@@ -334,7 +334,9 @@ impl Host for Fmi3Host {
                     let name = tree["mode"].as_str()?.to_string();
                     MODES.iter().position(|&m| m == name)
                 });
-            let outputs_readable = mode.is_some_and(|m| m > 0);
+            // In Initialization Mode the first output read sets the simulation up, and a set-up
+            // that fails is an fmi3Error: outputs are read from Step Mode on.
+            let outputs_readable = mode.is_some_and(|m| m > 1);
             let size = |vr| self.scalar(vr, Kind::Integer);
             let sized = size(vr::MESH_NY).1 + 1
                 == self.scalar(vr::MESH_VERTEX_ROWS, Kind::UInt64).1

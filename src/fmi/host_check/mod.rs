@@ -286,8 +286,9 @@ pub fn check_call<H: Host>(host: &mut H, op: &Op) -> Result<Option<i32>, String>
         }
         let again = host.observe();
         if again != after {
+            let what = difference(&after, &again, H::DESCRIPTION);
             return Err(format!(
-                "{context}: setting its own FMU state changed {after:?} into {again:?}"
+                "{context}: setting its own FMU state changed {what}"
             ));
         }
     }
