@@ -119,12 +119,12 @@ fn fmi3_sizes(inst: &mut Instance<Fmi3, PlateModel>) {
     inst.exit_configuration_mode().unwrap();
 }
 
-/// Eight call sequences of 48 pseudo-random bytes (xorshift), with every flags value.
+/// Eight call sequences of 255 pseudo-random bytes (xorshift), with every flags value.
 fn call_sequences() -> Vec<(String, Vec<u8>)> {
     let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
     (0..8u8)
         .map(|i| {
-            let bytes = (0..48).map(|_| {
+            let bytes = (0..255).map(|_| {
                 x ^= x << 13;
                 x ^= x >> 7;
                 x ^= x << 17;
