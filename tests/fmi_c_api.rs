@@ -17,7 +17,8 @@ use plate_impact::fmi::fmi2::exports::*;
 use plate_impact::fmi::host_check::fmi2::Fmi2Host;
 use plate_impact::fmi::host_check::fmi3::Fmi3Host;
 use plate_impact::fmi::host_check::{
-    check_sequence, value_references, Host, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS, TIMES,
+    check_call, check_sequence, value_references, Host, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS,
+    TIMES,
 };
 use plate_impact::fmi::variables::{vr, Description, Kind, FMI2, FMI3};
 use proptest::prelude::*;
@@ -93,6 +94,34 @@ proptest! {
     ) {
         run::<Fmi3Host>(running, &ops)?;
     }
+}
+
+/// A plate the elements cannot mesh (Lx = 1e300 m: each parameter valid, the Argyris triangles
+/// degenerate in floating point) is refused when initialization ends, through the panic that the
+/// set-up catches, under every oracle and in both versions. Found by the call-sequence fuzz target,
+/// whose harness aborted at that caught panic (it now keeps std's panic hook).
+#[test]
+fn a_plate_the_elements_cannot_mesh_is_refused_at_initialization() {
+    fn statuses<H: Host>() -> Vec<Option<i32>> {
+        let mut host = H::new();
+        let ops = [
+            Op::SetReal(vec![(vr::PLATE_LENGTH, 1e300)]),
+            Op::SetupExperiment(0.0, None),
+            Op::EnterInitialization,
+            Op::ExitInitialization,
+        ];
+        ops.iter()
+            .map(|op| check_call(&mut host, op).unwrap_or_else(|e| panic!("{e}")))
+            .collect()
+    }
+    assert_eq!(
+        statuses::<Fmi2Host>(),
+        [Some(0), Some(0), Some(0), Some(ERROR)]
+    );
+    assert_eq!(
+        statuses::<Fmi3Host>(),
+        [Some(0), None, Some(0), Some(ERROR)]
+    );
 }
 
 /// An FMI 2.0 instance on a 3 × 2 mesh.
