@@ -53,10 +53,12 @@ Usage:
 """
 
 import argparse
+import copy
 import math
 import pathlib
 import shutil
 import tempfile
+import time
 
 import numpy as np
 from fmpy import extract, read_model_description
@@ -71,6 +73,7 @@ SUSPENSION_STIFFNESS = SHAKER_MASS * (2 * math.pi * 15.0) ** 2  # N/m
 SUSPENSION_DAMPING = 2 * 0.2 * math.sqrt(SUSPENSION_STIFFNESS * SHAKER_MASS)  # N s/m
 DRIVE_AMPLITUDE = 7000.0  # N
 DRIVE_FREQUENCY = 53.0  # Hz
+COUPLINGS = ("instantaneous", "mean", "iterated")
 SUBSTEP = 1e-5  # s, the longest shaker substep
 
 # The plate: the paper's steel plate (the FMU's defaults) and obstacles at +-10 mm, with Rayleigh
@@ -78,7 +81,7 @@ SUBSTEP = 1e-5  # s, the longest shaker substep
 PLATE_LENGTH, PLATE_WIDTH, PLATE_THICKNESS, PLATE_DENSITY = 0.4, 0.2, 0.01, 7770.0
 PLATE = {"damping.mass_proportional": 2 * 0.01 * 2 * math.pi * 53.8,
          "damping.stiffness_proportional": 2 * 0.05 / (2 * math.pi * 335.0)}
-OUTPUTS = ["base.force", "corner1.displacement", "energy.total", "energy.base_work",
+OUTPUTS = ["base.force", "base.mean_force", "corner1.displacement", "energy.total", "energy.base_work",
            "energy.contact_loss", "energy.damping_loss"]
 
 
@@ -116,14 +119,43 @@ class Shaker:
             self.x, self.v = self.x + dx, v1
 
 
-def run(h, stop, fmu=FMU):
-    """The coupled run with communication step `h` (s) up to `stop` (s): the recorded traces and
-    the terms of the power balance (J) between the first communication point and the end."""
+class Interface:
+    """The plate's base motion the master sends over one communication step and what it reads back:
+    the quadratic z(t_k + tau) = x_k + v_k tau + a_k tau^2 / 2 through the shaker's position and
+    velocity at t_k that lands on its position x_{k+1} at t_{k+1} (the FMU follows a sample and its
+    two derivatives exactly, docs/fmu.md), and the plate's reaction without the inertia of its rigid
+    motion, from the mean force."""
+
+    def __init__(self, plate_mass, dt):
+        self.plate_mass, self.dt = plate_mass, dt
+        self.grid_velocity = 0.0  # (z_N - z_{N-1}) / dt at the last communication point: at rest
+
+    def plan(self, x0, v0, x1, h):
+        """(x_k, v_k, a_k) for a step of h from (x0, v0) to x1."""
+        return x0, v0, 2.0 * (x1 - x0 - v0 * h) / (h * h)
+
+    def end_velocity(self, plan, h):
+        """(z_N - z_{N-1}) / dt at the end of a step of h along `plan`: v_k + a_k (h - dt/2)."""
+        _, v0, a = plan
+        return v0 + a * (h - 0.5 * self.dt)
+
+    def rest(self, mean_force, plan, h):
+        """The plate's mean reaction R over the step without its rigid inertia: the mean force plus
+        m_p (v_{N1-1/2} - v_{N0-1/2}) / h, exactly the rigid part -m_p d^2z/dt^2 of the force's
+        impulse on the grid (docs/fmu.md, "Coupling both ways")."""
+        return mean_force + self.plate_mass * (self.end_velocity(plan, h) - self.grid_velocity) / h
+
+
+def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-13, max_iterations=50):
+    """The coupled run with communication step `h` (s) up to `stop` (s) and the `coupling` of the
+    module docs: the recorded traces and the terms of the power balance (J) between the first
+    communication point and the end, with the iterations (iterated coupling)."""
     md = read_model_description(str(fmu))
     unzipdir = extract(str(fmu), unzipdir=tempfile.mkdtemp(prefix="shaker-"))
     vr = {v.name: v.valueReference for v in md.modelVariables}
     plate = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier,
                       instanceName="plate")
+    iterations = []
     try:
         plate.instantiate()
         plate.setupExperiment(startTime=0.0, stopTime=stop)
@@ -131,29 +163,70 @@ def run(h, stop, fmu=FMU):
         plate.enterInitializationMode()
         plate.exitInitializationMode()
         lag = plate.getReal([vr["solver.time_step"]])[0]
-        shaker = Shaker(PLATE_DENSITY * PLATE_THICKNESS * PLATE_LENGTH * PLATE_WIDTH)
+        plate_mass = PLATE_DENSITY * PLATE_THICKNESS * PLATE_LENGTH * PLATE_WIDTH
+        shaker = Shaker(plate_mass)
+        interface = Interface(plate_mass, lag)
         steps = round(stop / h)
-        out = {name: np.empty(steps + 1) for name in ["time", "shaker", "contact.impacts"] + OUTPUTS}
+        out = {name: np.empty(steps + 1) for name in ["time", "shaker", "contact.impacts", "residual"] + OUTPUTS}
         output_vrs = [vr[n] for n in OUTPUTS]
+        displacement = vr["base.displacement"]
 
         def record(k):
             out["time"][k], out["shaker"][k] = k * h, shaker.x
             for name, value in zip(OUTPUTS, plate.getReal(output_vrs)):
                 out[name][k] = value
             out["contact.impacts"][k] = plate.getInteger([vr["contact.impacts"]])[0]
+            out["residual"][k] = -(out["energy.base_work"][k] + shaker.plate_work)
+
+        def step_plate(t, plan):
+            x, v, a = plan
+            plate.setReal([displacement], [x])
+            plate.setRealInputDerivatives([displacement] * 2, [1, 2], [v, a])
+            plate.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+            return plate.getReal([vr["base.mean_force"]])[0]
 
         record(0)
         first, sent_acceleration, last_rest = None, 0.0, None
         for k in range(steps):
             t = k * h
-            # The plate's reaction at t_k - dt without the inertia of the acceleration it was given.
-            rest = out["base.force"][k] + shaker.plate_mass * sent_acceleration
-            slope = 0.0 if last_rest is None else (rest - last_rest) / h
-            last_rest, sent_acceleration = rest, shaker.a
-            plate.setReal([vr["base.displacement"]], [shaker.x])
-            plate.setRealInputDerivatives([vr["base.displacement"]] * 2, [1, 2], [shaker.v, sent_acceleration])
-            plate.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-            shaker.advance(t, h, lambda s, r=rest, d=slope: r + d * (s + lag))
+            if coupling == "instantaneous":
+                # The plate's reaction at t_k - dt without the inertia of the acceleration it was given.
+                rest = out["base.force"][k] + shaker.plate_mass * sent_acceleration
+                slope = 0.0 if last_rest is None else (rest - last_rest) / h
+                last_rest, sent_acceleration = rest, shaker.a
+                step_plate(t, (shaker.x, shaker.v, sent_acceleration))
+                shaker.advance(t, h, lambda s, r=rest, d=slope: r + d * (s + lag))
+            else:
+                # The plate first, on the Taylor plan of the shaker's motion, then the shaker under
+                # the plate's mean reaction over that same step (mean). Iterated: the plate again,
+                # from its saved state, on the quadratic that lands where the shaker did, and the
+                # shaker again under the new mean reaction, until the two land together.
+                start = copy.copy(shaker)
+                state = plate.getFMUstate() if coupling == "iterated" else None
+                plan = (shaker.x, shaker.v, shaker.a)
+                last = None  # (where the plate's base landed, how far the shaker landed from it)
+                for iteration in range(1, max_iterations + 1):
+                    rest = interface.rest(step_plate(t, plan), plan, h)
+                    shaker = copy.copy(start)
+                    shaker.advance(t, h, lambda s, r=rest: r)
+                    aim = plan[0] + plan[1] * h + 0.5 * plan[2] * h * h
+                    landing = shaker.x - aim
+                    if coupling == "mean" or abs(landing) <= tolerance:
+                        break
+                    # The next landing point: a secant step on landing(aim) = 0 (the map from where
+                    # the plate's base lands to where the shaker does is nearly affine).
+                    target = shaker.x
+                    if last is not None and landing != last[1]:
+                        target = aim - landing * (aim - last[0]) / (landing - last[1])
+                    last = (aim, landing)
+                    plan = interface.plan(start.x, start.v, target, h)
+                    plate.setFMUstate(state)
+                else:
+                    raise RuntimeError(f"t = {t} s: no convergence in {max_iterations} iterations ({landing:.1e} m)")
+                if state is not None:
+                    plate.freeFMUstate(state)
+                iterations.append(iteration)
+                interface.grid_velocity = interface.end_velocity(plan, h)
             record(k + 1)
             if first is None:
                 first = (shaker.energy(), shaker.drive_work, shaker.damper_loss, shaker.plate_work)
@@ -179,6 +252,7 @@ def run(h, stop, fmu=FMU):
     # What is left once the coupling residual is counted: the plate's own balance, to round-off.
     balance["closure"] = balance["drive"] - accounted - balance["residual"]
     balance["impacts"] = int(out["contact.impacts"].sum())
+    balance["iterations"] = (float(np.mean(iterations)), int(np.max(iterations))) if coupling == "iterated" else None
     return out, balance
 
 
@@ -225,24 +299,127 @@ def plot(out, path):
     plt.close(fig)
 
 
+def plot_modes(runs, path):
+    """The three couplings: the coupling residual over time at the coarsest step (left) and its
+    final value against the communication step (right), as fractions of the drive's work."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    colors = {"instantaneous": "tab:red", "mean": "tab:orange", "iterated": "tab:blue"}
+    steps = sorted({h for h, _ in runs}, reverse=True)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for mode in COUPLINGS:
+        out, b = runs[(steps[0], mode)]
+        residual = out["residual"][1:] - out["residual"][1]
+        left.plot(out["time"][1:], residual / b["drive"], color=colors[mode], label=mode)
+        fractions = [abs(runs[(h, mode)][1]["residual"]) / runs[(h, mode)][1]["drive"] for h in steps]
+        right.loglog([1e3 * h for h in steps], fractions, "o-", color=colors[mode], label=mode)
+        if mode == "iterated":
+            for h, f in zip(steps, fractions):
+                mean, most = runs[(h, mode)][1]["iterations"]
+                right.annotate(f"{mean:.1f} it.", (1e3 * h, f), textcoords="offset points", xytext=(4, -12),
+                               fontsize=8, color=colors[mode])
+    left.axhline(0.0, color="k", lw=0.6)
+    left.set_xlabel("t (s)")
+    left.set_ylabel("coupling residual / drive's work")
+    left.set_title(f"h = {1e3 * steps[0]:g} ms", fontsize=10)
+    left.legend(fontsize=8)
+    right.set_xlabel("communication step h (ms)")
+    right.set_ylabel("|coupling residual| / drive's work")
+    right.set_title(f"over {runs[(steps[0], COUPLINGS[0])][0]['time'][-1]:g} s", fontsize=10)
+    right.legend(fontsize=8)
+    fig.suptitle("Plate FMU on the shaker: instantaneous base.force, base.mean_force, and iterated steps")
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def state_cost(fmu=FMU, repeats=200):
+    """Mean wall time (s) of fmi2GetFMUstate, fmi2SetFMUstate and fmi2SerializeFMUstate on the
+    shaker scene's plate (the paper's mesh) after 0.1 s, and the serialized state's size (bytes)."""
+    md = read_model_description(str(fmu))
+    unzipdir = extract(str(fmu), unzipdir=tempfile.mkdtemp(prefix="shaker-"))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    plate = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="plate")
+    try:
+        plate.instantiate()
+        plate.setupExperiment(startTime=0.0)
+        plate.setReal([vr[n] for n in PLATE], list(PLATE.values()))
+        plate.enterInitializationMode()
+        plate.exitInitializationMode()
+        for k in range(100):
+            plate.setReal([vr["base.displacement"]], [1e-3 * math.sin(2 * math.pi * DRIVE_FREQUENCY * k * 1e-3)])
+            plate.doStep(k * 1e-3, 1e-3)
+        state = plate.getFMUstate()
+        timings = {}
+        for name, call in [("get", lambda: plate.freeFMUstate(plate.getFMUstate())),
+                           ("set", lambda: plate.setFMUstate(state)),
+                           ("serialize", lambda: plate.serializeFMUstate(state))]:
+            began = time.perf_counter()
+            for _ in range(repeats):
+                call()
+            timings[name] = (time.perf_counter() - began) / repeats
+        timings["bytes"] = len(plate.serializeFMUstate(state))
+        began = time.perf_counter()
+        for _ in range(repeats):
+            plate.doStep(0.1, 1e-3)
+            plate.setFMUstate(state)
+        timings["step"] = (time.perf_counter() - began) / repeats - timings["set"]
+        plate.freeFMUstate(state)
+        plate.terminate()
+    finally:
+        plate.freeInstance()
+        shutil.rmtree(unzipdir, ignore_errors=True)
+    return timings
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--fmu", default=str(FMU))
     parser.add_argument("--h", type=float, default=5e-4, help="communication step (s)")
     parser.add_argument("--stop", type=float, default=1.0, help="horizon (s)")
-    parser.add_argument("--out", default=str(ROOT / "docs" / "coupling"), help="directory of the plot")
+    parser.add_argument("--coupling", choices=COUPLINGS, default="iterated",
+                        help="what the master feeds back (default: iterated, the smallest residual)")
+    parser.add_argument("--out", default=str(ROOT / "docs" / "coupling"), help="directory of the plots")
     parser.add_argument("--no-plot", action="store_true")
     parser.add_argument("--sweep", action="store_true", help="the residual for h = 2 ms to 0.1 ms")
+    parser.add_argument("--compare", action="store_true",
+                        help="the three couplings at h = 2, 1, 0.5 ms (table, and the plot coupling_modes.png)")
+    parser.add_argument("--state-cost", action="store_true", help="time and size of the FMU state")
     args = parser.parse_args()
+    if args.state_cost:
+        c = state_cost(args.fmu)
+        print(f"FMU state of the paper's mesh: get {1e6 * c['get']:.1f} us, set {1e6 * c['set']:.1f} us, "
+              f"serialize {1e6 * c['serialize']:.1f} us, {c['bytes']} bytes serialized; "
+              f"one 1 ms doStep {1e6 * c['step']:.1f} us")
     if args.sweep:
         for h in (2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4):
-            _, b = run(h, args.stop, args.fmu)
+            _, b = run(h, args.stop, args.fmu, args.coupling)
             print(f"h = {h * 1e3:5.2f} ms: residual {b['residual']:+.4e} J ({abs(b['residual']) / b['drive']:.2e} "
                   f"of the drive's {b['drive']:.3f} J), {b['impacts']} impacts")
-    out, b = run(args.h, args.stop, args.fmu)
+    if args.compare:
+        runs = {}
+        print("| h | coupling | residual (J) | of the drive's work | drive (J) | impacts | iterations (mean, max) |")
+        print("|---|---|---|---|---|---|---|")
+        for h in (2e-3, 1e-3, 5e-4):
+            for mode in COUPLINGS:
+                runs[(h, mode)] = run(h, args.stop, args.fmu, mode)
+                b = runs[(h, mode)][1]
+                its = "-" if b["iterations"] is None else f"{b['iterations'][0]:.2f}, {b['iterations'][1]}"
+                print(f"| {1e3 * h:g} ms | {mode} | {b['residual']:+.3e} | {abs(b['residual']) / b['drive']:.2e} | "
+                      f"{b['drive']:.2f} | {b['impacts']} | {its} |", flush=True)
+        if not args.no_plot:
+            plot_modes(runs, pathlib.Path(args.out) / "coupling_modes.png")
+    out, b = run(args.h, args.stop, args.fmu, args.coupling)
     if not args.no_plot:
         plot(out, pathlib.Path(args.out) / "shaker_coupling.png")
-    print(f"{b['impacts']} impacts; the plate's own balance closes to {b['closure']:.1e} J")
+    iterations = "" if b["iterations"] is None else f"; {b['iterations'][0]:.2f} iterations per step (at most {b['iterations'][1]})"
+    print(f"{args.coupling} coupling: {b['impacts']} impacts; the plate's own balance closes to {b['closure']:.1e} J"
+          f"{iterations}")
     print(balance_line(args.h, b))
 
 
