@@ -216,3 +216,30 @@ fn the_mean_force_starts_static_and_survives_a_state_round_trip() {
     sim.restart(&scene, 0.0, 0.0).unwrap();
     assert_eq!(sim.base_mean_force(), static_force);
 }
+
+/// A communication step refused at its first internal step (a base sample outside the gap) takes
+/// no time: the mean force stays the last step's, finite, and the state stays one that restores.
+#[test]
+fn a_step_refused_before_its_first_grid_point_keeps_the_last_mean() {
+    let scene = scene(1e-4, false, true);
+    let mut sim = Simulation::new(&scene, 0.0, 0.0).unwrap();
+    for refused_first in [true, false] {
+        if !refused_first {
+            step(&mut sim, 3e-4, 0.0, 0.0);
+        }
+        let (before, time) = (sim.base_mean_force(), sim.time());
+        let end = sim.step_end(1e-3).unwrap();
+        // Below the lower obstacle (the scene has no upper one) already at the first grid point.
+        let outside = InputSample {
+            value: -1.0,
+            slope: None,
+            curvature: None,
+        };
+        let err = sim.advance(&end, &outside, false, &mut |_| {}).unwrap_err();
+        assert!(err.to_string().contains("obstacles"), "{err}");
+        assert_eq!(sim.time(), time, "no grid point reached");
+        assert_eq!(sim.base_mean_force().to_bits(), before.to_bits());
+        let restored = Simulation::from_state(&sim.state()).unwrap();
+        assert_eq!(restored.base_mean_force().to_bits(), before.to_bits());
+    }
+}

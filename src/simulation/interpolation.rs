@@ -65,7 +65,7 @@ pub fn interpolate(previous: &Outputs, next: &Outputs, theta: f64) -> Outputs {
 }
 
 /// a + θ(b − a): the value θ of the way from a to b.
-pub fn mix(a: f64, b: f64, theta: f64) -> f64 {
+pub(crate) fn mix(a: f64, b: f64, theta: f64) -> f64 {
     a + theta * (b - a)
 }
 

@@ -379,8 +379,30 @@ impl Simulation {
     /// that grid point was computed ahead by the previous step; the communication time is then
     /// that grid point and [`CommunicationStep::stopped_at_impact`] is set. Without it, or without
     /// such an impact, the step is the same, bit for bit. On an error the steps before it stay
-    /// taken and the communication time is the last grid point reached.
+    /// taken and the communication time is the last grid point reached; `base.mean_force` is then
+    /// the mean up to that point, or stays the last step's when no time passed.
     pub fn advance(
+        &mut self,
+        end: &StepEnd,
+        sample: &InputSample,
+        stop_at_impact: bool,
+        observer: &mut dyn FnMut(&InternalStep),
+    ) -> Result<CommunicationStep, Error> {
+        let start = StepStart {
+            elapsed: self.elapsed(),
+            impulse: self.base_impulse(),
+        };
+        let last = self.step_start.replace(start);
+        let result = self.advance_from(end, sample, stop_at_impact, observer);
+        if self.elapsed() == start.elapsed {
+            // A step that failed before its first grid point: no step to average over.
+            self.step_start = last;
+        }
+        result
+    }
+
+    /// [`Simulation::advance`] once the start of the step is recorded.
+    fn advance_from(
         &mut self,
         end: &StepEnd,
         sample: &InputSample,
@@ -389,10 +411,6 @@ impl Simulation {
     ) -> Result<CommunicationStep, Error> {
         let n0 = self.stepper.step_index();
         let sample_time = self.elapsed();
-        self.step_start = Some(StepStart {
-            elapsed: sample_time,
-            impulse: self.base_impulse(),
-        });
         let mut summary = CommunicationStep::default();
         // The step computed ahead (at t_{n0}) belongs to this communication step if it reaches
         // t_{n0}; it does unless it ends before t_{n0} again.
