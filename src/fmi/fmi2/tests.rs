@@ -430,8 +430,13 @@ fn crafted_fmu_states_are_refused_naming_the_field() {
         ),
         (
             vec!["model", "simulation", "point"],
-            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
+            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_impulse":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
             "not strictly between",
+        ),
+        (
+            vec!["model", "simulation", "step_start"],
+            r#"{"elapsed":1e9,"impulse":0.0}"#,
+            "last communication step started",
         ),
         (
             vec!["model", "simulation", "contact", "impacts"],
