@@ -11,10 +11,10 @@
 //!   ζ_hf = min over ω ≥ 1/Δt of α/(2ω) + βω/2 + ζ_m
 //!
 //! (the scene's Rayleigh α, β and modal ratio ζ_m), reaches [`CONVERGED_HIGH_MODE_RATIO`]. For
-//! stiffness-proportional damping ζ_hf ≈ β/(2Δt): the setting asks for Δt ≤ 2β·… (see
-//! [`StatisticsAdvice::largest_time_step`]). Without stiffness-proportional damping (mass-
-//! proportional or a light uniform modal ratio) ζ_hf stays at ζ_m (or 0) at every Δt and the
-//! warning stands: refining Δt and the mesh only brings in more lightly damped modes.
+//! stiffness-proportional damping ζ_hf ≥ β/(2Δt), so Δt ≤ β/(2ζ_min) is enough (and always is:
+//! while ζ_hf < ζ_min the minimum √(αβ) of ζ lies below 1/(2β)). Without stiffness-proportional
+//! damping (mass-proportional, or a light uniform modal ratio) ζ_hf stays at ζ_m (or 0) at every
+//! Δt and the warning stands: refining Δt and the mesh only brings in more lightly damped modes.
 
 use crate::scene::Scene;
 
@@ -63,27 +63,30 @@ impl StatisticsAdvice {
             .then(|| self.stiffness_proportional / (2.0 * CONVERGED_HIGH_MODE_RATIO))
     }
 
-    /// The warning's text: what was found, the two ways out, and where it is documented.
+    /// The warning's text: what was found, the ways out, and where it is documented.
     pub fn message(&self) -> String {
         let dt = self.time_step;
+        let beta_needed = 2.0 * CONVERGED_HIGH_MODE_RATIO * dt;
         let remedy = match self.largest_time_step() {
             Some(largest) => format!(
-                "take solver.time_step <= {largest:.3e} s for this damping.stiffness_proportional, \
-                 or damp the high modes more"
+                "take solver.time_step <= {largest:.3e} s \
+                 (damping.stiffness_proportional/(2*{CONVERGED_HIGH_MODE_RATIO})) or \
+                 damping.stiffness_proportional >= {beta_needed:.3e} s"
             ),
-            None => "damp the high modes: a stiffness-proportional damping".to_string(),
+            None => format!(
+                "add stiffness-proportional damping, damping.stiffness_proportional >= \
+                 {beta_needed:.3e} s, as the scene forced-35hz-damped does"
+            ),
         };
         format!(
-            "impact statistics may not converge: obstacles are enabled and the modes the scheme \
-             does not resolve (omega >= 1/solver.time_step = {:.3e} rad/s) have a damping ratio \
-             down to {:.3e}, below the {CONVERGED_HIGH_MODE_RATIO} from which time averages and \
-             impact counts were found converged in time step and mesh; {remedy} with \
-             damping.stiffness_proportional >= {:.3e} s (= 2*{CONVERGED_HIGH_MODE_RATIO}*\
-             solver.time_step, e.g. damping.stiffness_proportional = damping ratio of mode 1 / \
-             (pi * its frequency)). Results are not changed by this warning. See {DOCS_SECTION}",
+            "impact statistics may not converge: an obstacle is enabled and the modes the scheme \
+             does not resolve (omega >= 1/solver.time_step = {:.3e} rad/s) are damped down to the \
+             ratio {:.3e}, below the {CONVERGED_HIGH_MODE_RATIO} from which time averages and \
+             impact counts were found converged in time step and mesh. To converge, {remedy} \
+             (beta = zeta_1/(pi f_1) gives mode 1 of frequency f_1 the ratio zeta_1). This warning \
+             changes no result. See {DOCS_SECTION}",
             1.0 / dt,
             self.high_mode_ratio,
-            2.0 * CONVERGED_HIGH_MODE_RATIO * dt
         )
     }
 }
@@ -107,6 +110,11 @@ mod tests {
         let coarse = StatisticsAdvice::of(&s).expect("Δt too large for β");
         assert!((coarse.high_mode_ratio - 0.1478).abs() < 1e-3);
         assert!((coarse.largest_time_step().unwrap() - 1.1826e-4).abs() < 1e-8);
+        let text = coarse.message();
+        assert!(
+            text.contains("solver.time_step <= 1.183e-4 s") && text.contains(">= 1.000e-4 s"),
+            "{text}"
+        );
         s.obstacle.lower_enabled = false;
         s.obstacle.upper_enabled = false;
         assert_eq!(StatisticsAdvice::of(&s), None);
