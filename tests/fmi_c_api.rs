@@ -17,6 +17,7 @@ use proptest::prelude::*;
 use std::ffi::CString;
 
 const OK: fmi2Status = 0;
+const WARNING: fmi2Status = 1;
 const ERROR: fmi2Status = 3;
 
 #[derive(Clone, Debug)]
@@ -479,7 +480,9 @@ fn null_pointers_and_garbage_are_errors_not_crashes() {
         let c = host.c;
         assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), 0);
         assert_eq!(fmi2EnterInitializationMode(c), 0);
-        assert_eq!(fmi2ExitInitializationMode(c), 0);
+        // The default scene has obstacles and no damping of the high modes: its impact statistics
+        // may not converge, which the FMU says with a warning (docs/accuracy/damping.md).
+        assert_eq!(fmi2ExitInitializationMode(c), WARNING);
         assert_eq!(
             fmi2GetReal(c, std::ptr::null(), 1, std::ptr::null_mut()),
             ERROR

@@ -15,6 +15,7 @@ mod values;
 
 pub use snapshot::PlateSnapshot;
 
+use crate::advice::StatisticsAdvice;
 use crate::fmi::ffi::panic_text;
 use crate::fmi::logger::{Logger, LOG_WARNING};
 use crate::fmi::model::{Array, Derivative, Model, Phase, StepOptions, StepOutcome, Value};
@@ -269,8 +270,15 @@ impl Model for PlateModel {
         Ok(())
     }
 
-    fn exit_initialization(&mut self) -> Result<(), Failure> {
-        self.readable_simulation(Phase::Initialization).map(|_| ())
+    fn exit_initialization(&mut self, log: &mut Logger) -> Result<Status, Failure> {
+        self.readable_simulation(Phase::Initialization)?;
+        Ok(match StatisticsAdvice::of(&self.parameters) {
+            Some(advice) => {
+                log.log(Status::Warning, LOG_WARNING, &advice.message());
+                Status::Warning
+            }
+            None => Status::Ok,
+        })
     }
 
     fn time(&self, phase: Phase) -> f64 {
@@ -287,6 +295,7 @@ impl Model for PlateModel {
                 values::output(sim.outputs(), &last_step(sim), v)
             }
             Causality::Input => Ok(Value::Real(self.input)),
+            Causality::CalculatedParameter => values::calculated(&self.parameters, v),
             _ => values::parameter(&self.parameters, v),
         }
     }
