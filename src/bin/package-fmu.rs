@@ -11,7 +11,7 @@
 //! * `cargo run --release --bin package-fmu`, the developer FMUs: `cargo build --release --lib`,
 //!   this machine's x86_64 Linux library only, with debug info, linked against this machine's glibc;
 //! * `cargo run --release --bin package-fmu -- --all-platforms` (or `PLATE_IMPACT_PLATFORMS=all`),
-//!   the release FMUs: five binaries built with the `fmu` profile (the release profile without
+//!   the release FMUs: five binaries built with the `release-fmu` profile (the release profile without
 //!   debug info, stripped), each by a cross toolchain from the package registries:
 //!   x86_64 Linux against glibc 2.17 (`cargo zigbuild`), x86_64 Windows (mingw-w64) and aarch64
 //!   Linux (FMI 3.0 only: FMI 2.0 has no standard folder for it), each with the rustup target
@@ -28,7 +28,7 @@ use zip::write::SimpleFileOptions;
 use zip::CompressionMethod;
 
 /// The profile of the release binaries (Cargo.toml): release without debug info, stripped.
-const RELEASE_PROFILE: &str = "fmu";
+const RELEASE_PROFILE: &str = "release-fmu";
 /// The oldest glibc the release x86_64 Linux library runs on (RHEL 7, Ubuntu 14.04 and later).
 const GLIBC: &str = "2.17";
 /// Where Debian's `rustc-web` and `cargo-web` put the compiler used with `-Zbuild-std`.
