@@ -11,7 +11,7 @@
 //! * `cargo run --release --bin package-fmu`, the developer FMUs: `cargo build --release --lib`,
 //!   this machine's x86_64 Linux library only, with debug info, linked against this machine's glibc;
 //! * `cargo run --release --bin package-fmu -- --all-platforms` (or `PLATE_IMPACT_PLATFORMS=all`),
-//!   the release FMUs: five binaries built with the `release-fmu` profile (the release profile without
+//!   the release FMUs: three binaries (five entries in the two FMUs) built with the `release-fmu` profile (the release profile without
 //!   debug info, stripped), each by a cross toolchain from the package registries:
 //!   x86_64 Linux against glibc 2.17 (`cargo zigbuild`), x86_64 Windows (mingw-w64) and aarch64
 //!   Linux (FMI 3.0 only: FMI 2.0 has no standard folder for it), each with the rustup target
@@ -33,6 +33,8 @@ const RELEASE_PROFILE: &str = "release-fmu";
 const GLIBC: &str = "2.17";
 /// Where Debian's `rustc-web` and `cargo-web` put the compiler used with `-Zbuild-std`.
 const DEBIAN_CARGO: &str = "/usr/bin/cargo";
+/// Where Debian's `rust-web-src` puts the standard library's sources that `-Zbuild-std` compiles.
+const DEBIAN_RUST_SRC: &str = "/usr/lib/rustlib/src/rust/library";
 
 /// One platform of the release FMUs.
 struct Platform {
@@ -182,7 +184,9 @@ impl Tools {
                 if on_path(linker, &tools.path).is_none() {
                     missing.push(format!("{linker} (Debian: apt-get install {package})"));
                 }
-                if !tools.has_rustup_target(platform.triple) && !Path::new(DEBIAN_CARGO).is_file() {
+                let debian =
+                    Path::new(DEBIAN_CARGO).is_file() && Path::new(DEBIAN_RUST_SRC).is_dir();
+                if !tools.has_rustup_target(platform.triple) && !debian {
                     missing.push(format!(
                         "the Rust standard library for {} (rustup target add {0}, or Debian: \
                          apt-get install rustc-web cargo-web rust-web-src)",
