@@ -11,12 +11,13 @@
 //! * `cargo run --release --bin package-fmu`, the developer FMUs: `cargo build --release --lib`,
 //!   this machine's x86_64 Linux library only, with debug info, linked against this machine's glibc;
 //! * `cargo run --release --bin package-fmu -- --all-platforms` (or `PLATE_IMPACT_PLATFORMS=all`),
-//!   the release FMUs: three binaries (five entries in the two FMUs) built with the `release-fmu` profile (the release profile without
-//!   debug info, stripped), each by a cross toolchain from the package registries:
-//!   x86_64 Linux against glibc 2.17 (`cargo zigbuild`), x86_64 Windows (mingw-w64) and aarch64
-//!   Linux (FMI 3.0 only: FMI 2.0 has no standard folder for it), each with the rustup target
-//!   when it is installed, else with Debian's Rust and `-Zbuild-std`. It says what it runs and
-//!   stops, naming the package to install, when a tool is missing.
+//!   the release FMUs: three binaries (five entries in the two FMUs) built with the `release-fmu`
+//!   profile (the release profile without debug info, stripped), by cross toolchains from the
+//!   package registries: x86_64 Linux and aarch64 Linux (FMI 3.0 only: FMI 2.0 has no standard
+//!   folder for it) linked by zig against glibc 2.17 (`cargo zigbuild`), x86_64 Windows linked by
+//!   mingw-w64; each compiled with the rustup target when it is installed, else with Debian's Rust
+//!   and `-Zbuild-std`. It says what it runs and stops, naming the package to install, when a tool
+//!   is missing.
 
 use plate_impact::fmi::variables::MODEL_IDENTIFIER;
 use std::ffi::OsString;
@@ -29,7 +30,7 @@ use zip::CompressionMethod;
 
 /// The profile of the release binaries (Cargo.toml): release without debug info, stripped.
 const RELEASE_PROFILE: &str = "release-fmu";
-/// The oldest glibc the release x86_64 Linux library runs on (RHEL 7, Ubuntu 14.04 and later).
+/// The oldest glibc the release Linux libraries run on (RHEL 7, Debian 8 and later).
 const GLIBC: &str = "2.17";
 /// Where Debian's `rustc-web` and `cargo-web` put the compiler used with `-Zbuild-std`.
 const DEBIAN_CARGO: &str = "/usr/bin/cargo";
@@ -44,18 +45,19 @@ struct Platform {
     fmi2: Option<&'static str>,
     /// Rust target triple.
     triple: &'static str,
-    /// How the binary is built.
-    toolchain: Toolchain,
+    /// What links the binary.
+    linker: Linker,
 }
 
-/// How a release binary is built.
-enum Toolchain {
-    /// `cargo zigbuild --target <triple>.<GLIBC>`: zig links against the glibc version given.
+/// What links a release binary. The compiler is the rustup target when installed, else Debian's
+/// Rust with `-Zbuild-std`.
+enum Linker {
+    /// zig, through `cargo zigbuild --target <triple>.<GLIBC>`: links against the symbol versions
+    /// of glibc `GLIBC`.
     Zig,
-    /// The rustup target when installed, else Debian's Rust with `-Zbuild-std`; `linker` is the
-    /// C cross compiler that links, from the Debian package `package`.
-    Cross {
-        linker: &'static str,
+    /// The C cross compiler `command`, from the Debian package `package`.
+    Gcc {
+        command: &'static str,
         package: &'static str,
     },
 }
@@ -65,14 +67,14 @@ const PLATFORMS: [Platform; 3] = [
         fmi3: "x86_64-linux",
         fmi2: Some("linux64"),
         triple: "x86_64-unknown-linux-gnu",
-        toolchain: Toolchain::Zig,
+        linker: Linker::Zig,
     },
     Platform {
         fmi3: "x86_64-windows",
         fmi2: Some("win64"),
         triple: "x86_64-pc-windows-gnu",
-        toolchain: Toolchain::Cross {
-            linker: "x86_64-w64-mingw32-gcc",
+        linker: Linker::Gcc {
+            command: "x86_64-w64-mingw32-gcc",
             package: "gcc-mingw-w64-x86-64",
         },
     },
@@ -80,10 +82,7 @@ const PLATFORMS: [Platform; 3] = [
         fmi3: "aarch64-linux",
         fmi2: None,
         triple: "aarch64-unknown-linux-gnu",
-        toolchain: Toolchain::Cross {
-            linker: "aarch64-linux-gnu-gcc",
-            package: "gcc-aarch64-linux-gnu",
-        },
+        linker: Linker::Zig,
     },
 ];
 
@@ -179,20 +178,19 @@ impl Tools {
                     .to_string(),
             );
         }
+        let debian = Path::new(DEBIAN_CARGO).is_file() && Path::new(DEBIAN_RUST_SRC).is_dir();
         for platform in &PLATFORMS {
-            if let Toolchain::Cross { linker, package } = platform.toolchain {
-                if on_path(linker, &tools.path).is_none() {
-                    missing.push(format!("{linker} (Debian: apt-get install {package})"));
+            if let Linker::Gcc { command, package } = platform.linker {
+                if on_path(command, &tools.path).is_none() {
+                    missing.push(format!("{command} (Debian: apt-get install {package})"));
                 }
-                let debian =
-                    Path::new(DEBIAN_CARGO).is_file() && Path::new(DEBIAN_RUST_SRC).is_dir();
-                if !tools.has_rustup_target(platform.triple) && !debian {
-                    missing.push(format!(
-                        "the Rust standard library for {} (rustup target add {0}, or Debian: \
-                         apt-get install rustc-web cargo-web rust-web-src)",
-                        platform.triple
-                    ));
-                }
+            }
+            if !tools.has_rustup_target(platform.triple) && !debian {
+                missing.push(format!(
+                    "the Rust standard library for {} (rustup target add {0}, or Debian: \
+                     apt-get install rustc-web cargo-web rust-web-src)",
+                    platform.triple
+                ));
             }
         }
         if missing.is_empty() {
@@ -220,60 +218,59 @@ impl Tools {
     /// Builds the release binary of `platform`; returns the path of the cdylib.
     fn build(&self, root: &Path, target: &Path, platform: &Platform) -> Result<PathBuf, String> {
         let triple = platform.triple;
-        let lib = ["--profile", RELEASE_PROFILE, "--lib", "--target"];
-        let (mut command, target_dir, path) = match platform.toolchain {
-            Toolchain::Zig => {
-                eprintln!(
-                    "package-fmu: {}: cargo zigbuild, linked by zig against glibc {GLIBC}",
-                    platform.fmi3
-                );
-                let mut command = Command::new(&self.cargo);
-                command
-                    .arg("zigbuild")
-                    .args(lib)
-                    .arg(format!("{triple}.{GLIBC}"));
-                (command, target.to_path_buf(), self.path.clone())
-            }
-            Toolchain::Cross { linker, .. } if self.has_rustup_target(triple) => {
-                eprintln!(
-                    "package-fmu: {}: the rustup target {triple}, linked by {linker}",
-                    platform.fmi3
-                );
-                let mut command = Command::new(&self.cargo);
-                command.arg("build").args(lib).arg(triple);
-                (command, target.to_path_buf(), self.path.clone())
-            }
-            Toolchain::Cross { linker, .. } => {
-                // Debian's rustc has no prebuilt standard library for other targets: cargo
-                // compiles it from rust-web-src (-Zbuild-std, unlocked on this stable compiler by
-                // RUSTC_BOOTSTRAP=1). Its own target directory keeps its artifacts apart from the
-                // rustup toolchain's.
-                eprintln!(
-                    "package-fmu: {}: Debian's Rust ({}) with -Zbuild-std (RUSTC_BOOTSTRAP=1), \
-                     linked by {linker}",
-                    platform.fmi3,
-                    debian_rustc_version()
-                );
-                let mut path = OsString::from("/usr/bin:");
-                path.push(&self.path);
-                let mut command = Command::new(DEBIAN_CARGO);
-                command
-                    .args(["build", "-Zbuild-std"])
-                    .args(lib)
-                    .arg(triple)
-                    .env("RUSTC_BOOTSTRAP", "1")
-                    .env_remove("RUSTC")
-                    .env_remove("RUSTDOC")
-                    .env_remove("RUSTUP_TOOLCHAIN");
-                (command, target.join("build-std"), path)
-            }
+        let (subcommand, target_arg, linked_by) = match platform.linker {
+            Linker::Zig => (
+                "zigbuild",
+                format!("{triple}.{GLIBC}"),
+                format!("zig against glibc {GLIBC}"),
+            ),
+            Linker::Gcc { command, .. } => ("build", triple.to_string(), command.to_string()),
+        };
+        let (mut command, target_dir) = if self.has_rustup_target(triple) {
+            eprintln!(
+                "package-fmu: {}: the rustup target {triple}, linked by {linked_by}",
+                platform.fmi3
+            );
+            let mut command = Command::new(&self.cargo);
+            command.arg(subcommand).env("PATH", &self.path);
+            (command, target.to_path_buf())
+        } else {
+            // Debian's rustc has no prebuilt standard library for other targets: cargo compiles
+            // it from rust-web-src (-Zbuild-std, unlocked on this stable compiler by
+            // RUSTC_BOOTSTRAP=1). Its cargo and rustc come first on PATH after .venv/bin (whose
+            // python3 has zig for cargo-zigbuild, which runs the cargo that called it). Its own
+            // target directory keeps its artifacts apart from the rustup toolchain's.
+            eprintln!(
+                "package-fmu: {}: Debian's Rust ({}) with -Zbuild-std (RUSTC_BOOTSTRAP=1), \
+                 linked by {linked_by}",
+                platform.fmi3,
+                debian_rustc_version()
+            );
+            let mut paths: Vec<PathBuf> = std::env::split_paths(&self.path).collect();
+            paths.insert(1, PathBuf::from("/usr/bin"));
+            let path =
+                std::env::join_paths(paths).map_err(|e| format!("cannot extend PATH: {e}"))?;
+            let mut command = Command::new(DEBIAN_CARGO);
+            command
+                .args([subcommand, "-Zbuild-std"])
+                .env("PATH", path)
+                .env("RUSTC_BOOTSTRAP", "1")
+                .env_remove("CARGO")
+                .env_remove("RUSTC")
+                .env_remove("RUSTDOC")
+                .env_remove("RUSTUP_TOOLCHAIN");
+            (command, target.join("build-std"))
         };
         command
+            .args(["--profile", RELEASE_PROFILE, "--lib", "--target"])
+            .arg(target_arg)
             .arg("--target-dir")
             .arg(&target_dir)
-            .current_dir(root)
-            .env("PATH", path);
-        if let Toolchain::Cross { linker, .. } = platform.toolchain {
+            .current_dir(root);
+        if let Linker::Gcc {
+            command: linker, ..
+        } = platform.linker
+        {
             let variable = format!(
                 "CARGO_TARGET_{}_LINKER",
                 triple.to_uppercase().replace('-', "_")
