@@ -234,7 +234,7 @@ def write_readme(out, meta, runs, fast, scenes, dt_orders, h_orders, freq_orders
       "`examples/accuracy_plots.py`); every number below is read from the CSVs in this directory. "
       "Do not edit by hand.\n")
     w(f"- {len(runs)} runs of {meta['horizon']} s each ({sum(r['strategy'] == 'clarabel' for r in runs)} "
-      f"with clarabel on every step), run one after the other in one process on this 2-core machine; "
+      f"with clarabel on every step), run one after the other in one process on a 2-core x86_64 development machine; "
       f"the whole study took {float(meta['total_s']):.0f} s. Wall time = `Stepper::new` (assembly, "
       "dense eigenbasis, initial state) + the step loop, measured with `std::time::Instant`.")
     w(f"- Scenes: {', '.join('`' + s + '` (' + SCENE_TITLES[s] + ')' for s in scenes)}.")

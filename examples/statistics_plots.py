@@ -562,7 +562,7 @@ def write_markdown(study, out):
     where = ("one after the other in one process" if parts == 1 else
              f"one after the other in each of {parts} processes run side by side (`--forcings`, "
              "`--skip`; the CSVs concatenated), with their times summed below")
-    w(f"- {len(runs)} settings, {where}, on this 2-core machine (shared "
+    w(f"- {len(runs)} settings, {where}, on a 2-core x86_64 development machine (shared "
       f"with other jobs, so wall times are upper bounds); the whole study took "
       f"{float(meta['total_s']) / 60:.1f} min: {wall / 60:.1f} min for one run of each setting, "
       "the rest for the perturbed replicas. Wall time of a run = `Stepper::new` "

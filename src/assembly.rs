@@ -38,7 +38,7 @@ pub fn dofs_per_vertex(kind: ElementKind) -> usize {
     }
 }
 
-/// A linear functional on the global dof vector: u ↦ Σ weights[k] · u[dofs[k]].
+/// A linear functional on the global dof vector: u ↦ Σₖ `weights[k]` · `u[dofs[k]]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PointFunctional {
     /// Global dofs involved.

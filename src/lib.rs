@@ -16,7 +16,7 @@
 //! * [`simulation`]: the model the FMU drives;
 //! * [`scene`]: the parameter set shared by examples, the FMU and Python;
 //! * [`error`]: errors that name the parameter and the limit;
-//! * [`fmi`]: the FMI 2.0 Co-Simulation interface, the crate's only unsafe code.
+//! * [`fmi`]: the FMI 2.0 and FMI 3.0 Co-Simulation interfaces, the crate's only unsafe code.
 
 pub mod assembly;
 pub mod budget;

@@ -39,7 +39,7 @@ impl Modes {
     }
 }
 
-/// The submatrix A[keep, keep] of a sparse matrix, sparse: entry (k, l) is A[keep[k], keep[l]].
+/// The submatrix A[keep, keep] of a sparse matrix, sparse: entry (k, l) is `A[keep[k], keep[l]]`.
 /// `keep` must hold distinct indices below A's order. faer builds it from A's entries with the
 /// dropped rows and columns given negative indices, which it ignores.
 pub fn sparse_restriction(

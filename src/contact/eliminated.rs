@@ -153,11 +153,6 @@ impl EliminatedSystem {
         self.stats
     }
 
-    /// Whether a numeric factor is held (its memory is allocated).
-    pub fn holds_factor(&self) -> bool {
-        self.factor.is_some()
-    }
-
     /// x = A⁻¹ b, with no constrained dof eliminated: the unconstrained step. Factors A if the
     /// factor holds a working set or there is none yet.
     pub fn solve_unconstrained(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {

@@ -102,7 +102,7 @@ unsafe fn stored<'a, V: Version, M: Model>(
 /// Get FMU state into the host's variable at `slot`.
 ///
 /// # Safety
-/// `slot` must be null or as for [`store`].
+/// `slot` must be null or as for `store`.
 pub unsafe fn get_fmu_state<V: Version, M: Model>(
     inst: &mut Instance<V, M>,
     slot: *mut *mut c_void,
@@ -119,7 +119,7 @@ pub unsafe fn get_fmu_state<V: Version, M: Model>(
 /// Set FMU state from the host's pointer.
 ///
 /// # Safety
-/// `state` must be as for [`stored`].
+/// `state` must be as for `stored`.
 pub unsafe fn set_fmu_state<V: Version, M: Model>(
     inst: &mut Instance<V, M>,
     state: *mut c_void,
@@ -157,7 +157,7 @@ pub unsafe fn free_fmu_state<V: Version, M: Model>(
 /// The serialized size of a state, written to `size`.
 ///
 /// # Safety
-/// `state` as for [`stored`]; `size` null or writable.
+/// `state` as for `stored`; `size` null or writable.
 pub unsafe fn serialized_size<V: Version, M: Model>(
     inst: &mut Instance<V, M>,
     function: V::Function,
@@ -178,7 +178,7 @@ pub unsafe fn serialized_size<V: Version, M: Model>(
 /// Serializes a state into the host's buffer of `size` bytes.
 ///
 /// # Safety
-/// `state` as for [`stored`]; `buffer` null or writable for `size` bytes.
+/// `state` as for `stored`; `buffer` null or writable for `size` bytes.
 pub unsafe fn serialize<V: Version, M: Model>(
     inst: &mut Instance<V, M>,
     function: V::Function,

@@ -514,7 +514,7 @@ impl<V: Version, M: Model> Instance<V, M> {
     }
 
     /// The derivatives of orders `orders` of the outputs `vrs` into `out`, serialized as
-    /// [`Instance::get`] serializes values.
+    /// `Instance::get` serializes values.
     pub fn output_derivatives(
         &mut self,
         vrs: &[u32],

@@ -63,7 +63,7 @@ REFERENCE_OUTPUTS = [_Output(n) for n in [
     "corner1.displacement", "corner2.displacement", "edge_mid.displacement", "energy.kinetic",
     "energy.elastic", "energy.total", "contact.active_nodes", "contact.force", "base.force",
     "energy.base_work", "energy.load_work", "energy.contact_loss", "energy.damping_loss",
-    "contact.impacts", "contact.impulse", "contact.peak_force"]]
+    "contact.impacts", "contact.impulse", "contact.peak_force", "base.mean_force"]]
 
 
 @pytest.mark.parametrize("scene", SCENE_NAMES)

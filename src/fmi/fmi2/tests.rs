@@ -163,7 +163,7 @@ fn the_standards_table_holds_through_the_instance() {
     assert_table_holds(&modes, Function::ALL, in_mode, call);
 }
 
-/// Defect 1: a rejected multi-value set was half-applied.
+/// Regression: a rejected multi-value set was half-applied.
 #[test]
 fn a_refused_set_changes_nothing() {
     let (mut inst, _) = small();
@@ -224,7 +224,7 @@ fn a_refused_set_changes_nothing() {
     assert_eq!(real(&mut inst, vr::LOAD_PRESSURE), 100.0);
 }
 
-/// Defect 2: fmi2DoStep returned OK with non-finite outputs.
+/// Regression: fmi2DoStep returned OK with non-finite outputs.
 #[test]
 fn a_step_that_overflows_is_an_error_naming_the_output() {
     let (mut inst, messages) = small();
@@ -377,7 +377,7 @@ fn crafted(inst: &mut Plate, path: &[&str], value: &str) -> Vec<u8> {
     serialized::encode_payload(text.as_bytes())
 }
 
-/// Defect 3: a crafted FMU state with a matching checksum was accepted.
+/// Regression: a crafted FMU state with a matching checksum was accepted.
 #[test]
 fn crafted_fmu_states_are_refused_naming_the_field() {
     let (mut inst, _) = initialized();
@@ -430,8 +430,13 @@ fn crafted_fmu_states_are_refused_naming_the_field() {
         ),
         (
             vec!["model", "simulation", "point"],
-            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
+            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_impulse":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
             "not strictly between",
+        ),
+        (
+            vec!["model", "simulation", "step_start"],
+            r#"{"elapsed":1e9,"impulse":0.0}"#,
+            "last communication step started",
         ),
         (
             vec!["model", "simulation", "contact", "impacts"],
@@ -479,7 +484,7 @@ fn crafted_fmu_states_are_refused_naming_the_field() {
     }
 }
 
-/// Defect 4: a huge communication step ran for ever; a start time whose grid cannot advance was
+/// Regression: a huge communication step ran for ever; a start time whose grid cannot advance was
 /// accepted.
 #[test]
 fn unbounded_steps_and_frozen_grids_are_refused_at_once() {
@@ -505,7 +510,7 @@ fn unbounded_steps_and_frozen_grids_are_refused_at_once() {
     );
 }
 
-/// Defect 5: every set in Initialization mode rebuilt the model, every read recomputed outputs.
+/// Regression: every set in Initialization mode rebuilt the model, every read recomputed outputs.
 #[test]
 fn initialization_sets_do_not_rebuild_the_plate() {
     let (mut inst, _) = small();
@@ -540,7 +545,7 @@ fn initialization_sets_do_not_rebuild_the_plate() {
     assert_eq!(inst.model().full_set_ups(), 2);
 }
 
-/// Defect 7: the input plan used the host's raw h, so ulp jitter of h changed the results.
+/// Regression: the input plan used the host's raw h, so ulp jitter of h changed the results.
 #[test]
 fn ulp_jitter_of_the_step_size_changes_nothing() {
     let run = |jitter: bool| {
@@ -563,7 +568,7 @@ fn ulp_jitter_of_the_step_size_changes_nothing() {
     assert_eq!(run(true), run(false));
 }
 
-/// Defect 8: mesh.element was an enumeration that some engines cannot set.
+/// Regression: mesh.element was an enumeration that some engines cannot set.
 #[test]
 fn the_element_is_an_integer_parameter() {
     let (mut inst, _) = small();
