@@ -594,9 +594,10 @@ impl Scene {
         self.material.density * self.plate.thickness
     }
 
-    /// Built-in base displacement c sin(2π f t) (m).
+    /// Built-in base displacement c sin(2π f t) (m). The sine is the pure-Rust `libm` one, not the
+    /// platform's math library, so that every platform computes the same bits (docs/platforms.md).
     pub fn builtin_base(&self, t: f64) -> f64 {
-        self.base.amplitude * (2.0 * std::f64::consts::PI * self.base.frequency * t).sin()
+        self.base.amplitude * libm::sin(2.0 * std::f64::consts::PI * self.base.frequency * t)
     }
 
     /// Enabled lower obstacle level, if any.

@@ -22,7 +22,8 @@ FORCED = {"base.amplitude": 0.009, "base.frequency": 35.0}
 
 def test_package_and_description(fmu3_path, model_description3):
     names = set(zipfile.ZipFile(fmu3_path).namelist())
-    assert names == {"modelDescription.xml", "binaries/x86_64-linux/PlateImpact.so"}
+    # The release FMU carries more platforms (tests/fmu/test_platforms.py checks them).
+    assert {"modelDescription.xml", "binaries/x86_64-linux/PlateImpact.so"} <= names
     assert validate_fmu(fmu3_path) == []
     md = model_description3
     cs = md.coSimulation
