@@ -6,7 +6,7 @@
  * the discrete energy, saves the FMU state at 0.5 s, restores it, runs the second half again and
  * checks that it repeats bit for bit. Values are printed as C99 hexadecimal floats (%a), exact.
  *
- * One source, two builds (commands in README.md, "From C"):
+ * One source, two builds (commands in docs/usage.md, "From C"):
  *   - default: loads binaries/linux64/PlateImpact.so of an unzipped FMU with dlopen, as FMU
  *     importers do (binaries/win64/PlateImpact.dll on Windows; -DPLATE_HOST_BINARY='"..."' names
  *     another binary of the FMU, such as binaries/aarch64-linux/PlateImpact.so of the FMI 3.0 FMU,
