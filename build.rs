@@ -27,6 +27,12 @@ fn checked(
 }
 
 fn main() {
+    // The FMU ships the library as `PlateImpact.so` (FMI names it after the model identifier):
+    // that is its SONAME, so that a host linked with `-l:PlateImpact.so` finds it at run time
+    // (some toolchains would otherwise record `libplate_impact.so`).
+    if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux") {
+        println!("cargo:rustc-cdylib-link-arg=-Wl,-soname,PlateImpact.so");
+    }
     println!("cargo:rerun-if-changed=build/model_description.rs");
     println!("cargo:rerun-if-changed=build/model_description_fmi3.rs");
     let fmi2 = checked(

@@ -7,9 +7,15 @@
 //!
 //! A part of the study, to share it between processes (`--out` to separate directories; the
 //! CSVs are then concatenated and `examples/statistics_plots.py DIR` run on the result): `--forcings
-//! damped` or `undamped` keeps those forced scenes only, `--skip energy,forced,replicas` leaves out
-//! the `energy` scene, the forced runs or the replica check. A partial study writes its CSVs but
-//! neither plots nor checks.
+//! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
+//! ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the `energy` scene, the
+//! forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs those meshes only and
+//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them). Trailing
+//! `name=value` arguments set scene parameters (the FMU variable names, [`Scene::set`]) of every
+//! run, after the study's own settings: `damping.stiffness_proportional=5.913e-5` or
+//! `damping.ratio=0.01 damping.frequency_low=53.8 damping.frequency_high=5000` with `--forcings
+//! undamped` (the `-damped` forcings add their α first, which the Rayleigh pair refuses); they are
+//! recorded in `statistics_meta.csv`. A partial study writes its CSVs but neither plots nor checks.
 //!
 //! Scenes. `forced-35hz` (base sine of 9 mm at 35 Hz, obstacles at ±10 mm) and `forced-60hz` (2 mm at
 //! 60 Hz, inside the band 39–74 Hz where the frequency sweep of docs/sweep/ impacts), each undamped
@@ -311,6 +317,35 @@ fn base_scene(element: ElementKind, mesh: (usize, usize), dt: f64) -> Scene {
     s
 }
 
+/// Sets the `name=value` scene parameters of the command line on `scene`, validated together
+/// ([`Scene::set_all`]).
+fn apply(scene: &mut Scene, overrides: &[String]) -> Result<(), String> {
+    let pairs: Vec<(&str, &str)> = overrides.iter().filter_map(|o| o.split_once('=')).collect();
+    scene.set_all(&pairs).map_err(|e| e.to_string())
+}
+
+/// The meshes of `--mesh argyris:10x7,fvs:14x10`, each run at every Δt of the ladder.
+fn parse_meshes(list: &str) -> Result<Vec<MeshPlan>, String> {
+    list.split(',')
+        .map(|item| {
+            let usage = || format!("--mesh {item}: use ELEMENT:NXxNY, e.g. argyris:10x7");
+            let (element, cells) = item.split_once(':').ok_or_else(usage)?;
+            let element = match element {
+                "argyris" => ElementKind::Argyris,
+                "fvs" => ElementKind::Fvs,
+                _ => return Err(usage()),
+            };
+            let (nx, ny) = cells.split_once('x').ok_or_else(usage)?;
+            let cells = |n: &str| n.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(usage);
+            Ok(MeshPlan {
+                element,
+                mesh: (cells(nx)?, cells(ny)?),
+                dt_min: 0.0,
+            })
+        })
+        .collect()
+}
+
 /// Every `stride` steps the outputs are sampled: every step up to [`SAMPLE_INTERVAL`], then
 /// every interval.
 fn sample_stride(dt: f64) -> usize {
@@ -327,12 +362,14 @@ fn run_forced(
     mesh: (usize, usize),
     dt: f64,
     preload: f64,
+    overrides: &[String],
 ) -> Result<ForcedRun, String> {
     let mut s = base_scene(element, mesh, dt);
     s.base.frequency = forcing.frequency;
     s.base.amplitude = forcing.amplitude;
     s.damping.mass_proportional = if forcing.damped { alpha } else { 0.0 };
     s.initial.preload_pressure = preload;
+    apply(&mut s, overrides)?;
     let periods = (forcing.frequency * plan.window_target).round() as usize;
     let window_s = periods as f64 / forcing.frequency;
     // Last step of window j: bounds[j + 1]; the windows are (bounds[j], bounds[j + 1]].
@@ -388,12 +425,14 @@ fn run_energy(
     mesh: (usize, usize),
     dt: f64,
     perturbation: f64,
+    overrides: &[String],
 ) -> Result<EnergyRun, String> {
     let mut s = Scene::named("energy").expect("named scene");
     s.mesh.element = element;
     (s.mesh.nx, s.mesh.ny) = mesh;
     s.solver.time_step = dt;
     s.initial.preload_pressure *= 1.0 + perturbation;
+    apply(&mut s, overrides)?;
     let marks = ENERGY_TIMES.map(|t| (t / dt).round() as usize);
     let started = Instant::now();
     let mut stepper = Stepper::new(&s, 0.0).map_err(|e| e.to_string())?;
@@ -514,13 +553,44 @@ fn study() -> Result<(), String> {
     };
     let forcings = value_of("--forcings")?;
     if let Some(kind) = &forcings {
-        let damped = match kind.as_str() {
-            "damped" => true,
-            "undamped" => false,
-            other => return Err(format!("--forcings = {other}: use damped or undamped")),
-        };
-        plan.forcings.retain(|f| f.damped == damped);
+        match kind.as_str() {
+            "damped" => plan.forcings.retain(|f| f.damped),
+            "undamped" => plan.forcings.retain(|f| !f.damped),
+            labels => {
+                let labels: Vec<&str> = labels.split(',').collect();
+                if let Some(bad) = labels
+                    .iter()
+                    .find(|l| !FORCINGS.iter().any(|f| f.label == **l))
+                {
+                    return Err(format!(
+                        "--forcings {bad}: use damped, undamped or labels among {:?}",
+                        FORCINGS.map(|f| f.label)
+                    ));
+                }
+                plan.forcings = FORCINGS
+                    .into_iter()
+                    .filter(|f| labels.contains(&f.label))
+                    .collect();
+            }
+        }
     }
+    let meshes = value_of("--mesh")?;
+    if let Some(list) = &meshes {
+        plan.meshes = parse_meshes(list)?;
+    }
+    let steps = value_of("--dt")?;
+    if let Some(list) = &steps {
+        plan.ladder = list
+            .split(',')
+            .map(|dt| {
+                dt.parse::<f64>()
+                    .ok()
+                    .filter(|dt| dt.is_finite() && *dt > 0.0)
+                    .ok_or(format!("--dt {dt}: use time steps > 0 (s), e.g. 1e-4,1e-5"))
+            })
+            .collect::<Result<_, _>>()?;
+    }
+    let overrides: Vec<String> = args.iter().filter(|a| a.contains('=')).cloned().collect();
     let skip: Vec<String> = value_of("--skip")?
         .map(|list| list.split(',').map(str::to_string).collect())
         .unwrap_or_default();
@@ -531,7 +601,11 @@ fn study() -> Result<(), String> {
         return Err(format!("--skip {bad}: use energy, forced and/or replicas"));
     }
     let skips = |part: &str| skip.iter().any(|s| s == part);
-    let partial = forcings.is_some() || !skip.is_empty();
+    let partial = forcings.is_some()
+        || meshes.is_some()
+        || steps.is_some()
+        || !overrides.is_empty()
+        || !skip.is_empty();
     let started = Instant::now();
 
     let (omega1, _, _) = mesh_modes(ElementKind::Argyris, (10, 7))?;
@@ -587,7 +661,10 @@ fn study() -> Result<(), String> {
     for (m, &wmax) in energy_meshes.iter().zip(&omega_max) {
         for &dt in plan.ladder.iter().filter(|&&dt| dt >= m.dt_min) {
             let replicas = (0..plan.replicas)
-                .map(|k| run_energy(m.element, m.mesh, dt, k as f64 * ENERGY_PERTURBATION))
+                .map(|k| {
+                    let perturbation = k as f64 * ENERGY_PERTURBATION;
+                    run_energy(m.element, m.mesh, dt, perturbation, &overrides)
+                })
                 .collect::<Result<Vec<_>, _>>()?;
             let (stats, wall) = energy_stats(&replicas, dt);
             rows(
@@ -606,7 +683,9 @@ fn study() -> Result<(), String> {
     for forcing in forced {
         for (m, &wmax) in plan.meshes.iter().zip(&omega_max) {
             for &dt in plan.ladder.iter().filter(|&&dt| dt >= m.dt_min) {
-                let run = run_forced(&plan, *forcing, alpha, m.element, m.mesh, dt, 0.0)?;
+                let run = run_forced(
+                    &plan, *forcing, alpha, m.element, m.mesh, dt, 0.0, &overrides,
+                )?;
                 let stats = run.stats();
                 rows(
                     &mut csv,
@@ -645,7 +724,10 @@ fn study() -> Result<(), String> {
         let runs = (0..plan.replicas)
             .map(|k| {
                 let preload = k as f64 * FORCED_PERTURBATION_PA;
-                run_forced(&plan, forcing, alpha, element, mesh, dt, preload).map(|r| r.stats())
+                run_forced(
+                    &plan, forcing, alpha, element, mesh, dt, preload, &overrides,
+                )
+                .map(|r| r.stats())
             })
             .collect::<Result<Vec<_>, _>>()?;
         for (q, s) in runs[0].iter().enumerate() {
@@ -690,6 +772,7 @@ fn study() -> Result<(), String> {
         ("energy_perturbation", ENERGY_PERTURBATION.to_string()),
         ("forced_perturbation_pa", FORCED_PERTURBATION_PA.to_string()),
         ("sample_interval_s", SAMPLE_INTERVAL.to_string()),
+        ("overrides", overrides.join(" ")),
     ] {
         writeln!(meta, "{k},{v}").expect("write to string");
     }

@@ -123,7 +123,7 @@ impl MemoryEstimate {
             ElementKind::Argyris => (45.0, 21.0, 45_751.0, 7_902_951.0),
             ElementKind::Fvs => (27.0, 12.0, 15_300.0, 1_414_620.0),
         };
-        let backend = resolve_linear(scene.solver.linear, size.free_dofs);
+        let backend = resolve_linear(scene, size.free_dofs);
         let nnz_all = entries_per_dof * size.dofs as f64;
         let nnz_free = entries_per_dof * n;
         let triplets_per_matrix = size.cells as f64 * cell_dofs * cell_dofs;

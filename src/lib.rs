@@ -18,6 +18,7 @@
 //! * [`error`]: errors that name the parameter and the limit;
 //! * [`fmi`]: the FMI 2.0 and FMI 3.0 Co-Simulation interfaces, the crate's only unsafe code.
 
+pub mod advice;
 pub mod assembly;
 pub mod budget;
 pub mod contact;

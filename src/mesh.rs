@@ -173,7 +173,7 @@ fn signed_area(vertices: &[[f64; 2]], cell: &[usize]) -> f64 {
 }
 
 fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (b[0] - a[0]).hypot(b[1] - a[1])
+    libm::hypot(b[0] - a[0], b[1] - a[1])
 }
 
 #[cfg(test)]

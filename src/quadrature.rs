@@ -25,7 +25,7 @@ pub fn gauss_legendre_unit(n: usize) -> Vec<(f64, f64)> {
     assert!(n >= 1, "a Gauss–Legendre rule needs at least one point");
     let mut rule = Vec::with_capacity(n);
     for i in 0..n {
-        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        let mut x = libm::cos(std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5));
         let mut derivative = 0.0;
         for _ in 0..100 {
             // Three-term recurrence for P_n(x) and its derivative.

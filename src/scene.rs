@@ -181,33 +181,172 @@ pub struct Base {
     pub frequency: f64,
 }
 
-/// Rayleigh damping C = αM + βK on the motion relative to the base, w = u − z𝟙 (a plate moving
-/// rigidly with its base is not damped). Mode k of the clamped plate gets the damping ratio
-/// ζ_k = α/(2ω_k) + βω_k/2. Both default to 0 (the paper's undamped plate).
+/// Damping of the motion relative to the base, w = u − z𝟙 (a plate moving rigidly with its base is
+/// not damped), in one of two equivalent Rayleigh forms, plus an optional modal ratio
+/// (docs/scheme.md §10). Every field defaults to 0: the paper's undamped plate, bit for bit.
+///
+/// * Coefficients: C = αM + βK with α = `mass_proportional`, β = `stiffness_proportional`.
+/// * Engineers' form: `ratio` ζ at `frequency_low` f₁ and `frequency_high` f₂ (ω_i = 2πf_i): the
+///   Rayleigh pair whose ζ(ω) = α/(2ω) + βω/2 equals ζ at both, α = 2ζω₁ω₂/(ω₁ + ω₂),
+///   β = 2ζ/(ω₁ + ω₂) (between f₁ and f₂ the ratio is below ζ, outside above). Exclusive with a
+///   non-zero α or β; needs 0 < f₁ < f₂ when ζ > 0.
+/// * `modal_ratio` ζ_m: the same ratio added on every mode of the clamped plate, c_k = 2ζ_mω_k in
+///   the M-orthonormal eigenbasis (modal backend only), so that mode k has
+///   ζ_k = α/(2ω_k) + βω_k/2 + ζ_m.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Damping {
     /// α (1/s), ≥ 0.
     pub mass_proportional: f64,
     /// β (s), ≥ 0.
     pub stiffness_proportional: f64,
+    /// ζ (1), ≥ 0, the ratio of the Rayleigh pair at `frequency_low` and `frequency_high`.
+    pub ratio: f64,
+    /// f₁ (Hz), ≥ 0; with `ratio` > 0, > 0 and < `frequency_high`.
+    pub frequency_low: f64,
+    /// f₂ (Hz), ≥ 0; with `ratio` > 0, > `frequency_low`.
+    pub frequency_high: f64,
+    /// ζ_m (1), ≥ 0, the damping ratio added on every mode (modal backend).
+    pub modal_ratio: f64,
 }
 
 impl Damping {
+    /// Whether the damping needs the modal backend: ζ_m > 0.
+    pub fn is_modal(&self) -> bool {
+        self.modal_ratio > 0.0
+    }
+
+    /// The Rayleigh α (1/s) and β (s) the scheme uses: `mass_proportional` and
+    /// `stiffness_proportional`, or with `ratio` ζ > 0 the pair α = 2ζω₁ω₂/(ω₁ + ω₂),
+    /// β = 2ζ/(ω₁ + ω₂), ω_i = 2πf_i (for a scene that [`Scene::validate`] accepts).
+    pub fn rayleigh(&self) -> (f64, f64) {
+        if self.ratio > 0.0 {
+            let tau = 2.0 * std::f64::consts::PI;
+            let (w1, w2) = (tau * self.frequency_low, tau * self.frequency_high);
+            let beta = 2.0 * self.ratio / (w1 + w2);
+            (beta * w1 * w2, beta)
+        } else {
+            (self.mass_proportional, self.stiffness_proportional)
+        }
+    }
+
+    /// The coefficients the scheme applies (see [`DampingCoefficients`]).
+    pub fn coefficients(&self) -> DampingCoefficients {
+        let (alpha, beta) = self.rayleigh();
+        DampingCoefficients {
+            alpha,
+            beta,
+            modal_ratio: self.modal_ratio,
+        }
+    }
+
+    /// Checks each field's range and their combinations; the error names the parameters at fault.
+    pub fn validate(&self) -> Result<(), Error> {
+        for (name, v) in [
+            ("damping.mass_proportional", self.mass_proportional),
+            (
+                "damping.stiffness_proportional",
+                self.stiffness_proportional,
+            ),
+            ("damping.ratio", self.ratio),
+            ("damping.frequency_low", self.frequency_low),
+            ("damping.frequency_high", self.frequency_high),
+            ("damping.modal_ratio", self.modal_ratio),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(name, v, "must be finite and >= 0"));
+            }
+        }
+        if self.ratio == 0.0 {
+            return Ok(());
+        }
+        for (name, v) in [
+            ("damping.mass_proportional", self.mass_proportional),
+            (
+                "damping.stiffness_proportional",
+                self.stiffness_proportional,
+            ),
+        ] {
+            if v != 0.0 {
+                return Err(Error::invalid(
+                    &format!("damping.ratio and {name}"),
+                    format!("{} and {v}", self.ratio),
+                    &format!(
+                        "sets the Rayleigh damping twice: give damping.ratio with \
+                         damping.frequency_low and damping.frequency_high, or {name}, not both"
+                    ),
+                ));
+            }
+        }
+        if self.frequency_low <= 0.0 {
+            return Err(Error::invalid(
+                "damping.frequency_low",
+                self.frequency_low,
+                &format!(
+                    "must be > 0 Hz with damping.ratio = {} > 0 (the lower frequency of the \
+                     Rayleigh pair)",
+                    self.ratio
+                ),
+            ));
+        }
+        if self.frequency_high <= self.frequency_low {
+            return Err(Error::invalid(
+                "damping.frequency_high",
+                self.frequency_high,
+                &format!(
+                    "must be > damping.frequency_low = {} Hz with damping.ratio = {} > 0",
+                    self.frequency_low, self.ratio
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The damping as the scheme applies it: Rayleigh C = αM + βK on the free dofs plus, in the
+/// M-orthonormal eigenbasis of the clamped plate, 2ζ_mω_k on mode k, so that mode k has the modal
+/// coefficient c_k = α + βω_k² + 2ζ_mω_k and the damping ratio ζ_k = α/(2ω_k) + βω_k/2 + ζ_m.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DampingCoefficients {
+    /// α (1/s).
+    pub alpha: f64,
+    /// β (s).
+    pub beta: f64,
+    /// ζ_m (1).
+    pub modal_ratio: f64,
+}
+
+impl DampingCoefficients {
     /// Whether C = 0.
     pub fn is_zero(&self) -> bool {
-        self.mass_proportional == 0.0 && self.stiffness_proportional == 0.0
+        self.alpha == 0.0 && self.beta == 0.0 && self.modal_ratio == 0.0
     }
 
-    /// The modal damping coefficient c_k = α + βω_k² (1/s) of a mode with ω_k² = `omega_squared`:
-    /// in the M-orthonormal eigenbasis C is diagonal with these entries.
+    /// The modal damping coefficient c_k = α + βω_k² + 2ζ_mω_k (1/s) of a mode with
+    /// ω_k² = `omega_squared`: in the M-orthonormal eigenbasis C is diagonal with these entries.
+    /// Without a modal ratio it is α + βω_k², bit for bit.
     pub fn modal_coefficient(&self, omega_squared: f64) -> f64 {
-        self.mass_proportional + self.stiffness_proportional * omega_squared
+        let rayleigh = self.alpha + self.beta * omega_squared;
+        if self.modal_ratio > 0.0 {
+            rayleigh + 2.0 * self.modal_ratio * omega_squared.max(0.0).sqrt()
+        } else {
+            rayleigh
+        }
     }
 
-    /// ζ = α/(2ω) + βω/2 of a mode of angular frequency ω (rad/s).
+    /// ζ = α/(2ω) + βω/2 + ζ_m of a mode of angular frequency ω (rad/s).
     pub fn ratio(&self, omega: f64) -> f64 {
-        self.mass_proportional / (2.0 * omega) + 0.5 * self.stiffness_proportional * omega
+        self.alpha / (2.0 * omega) + 0.5 * self.beta * omega + self.modal_ratio
+    }
+
+    /// The smallest damping ratio ζ(ω) among the modes with ω ≥ `omega` (rad/s): ζ is convex in
+    /// ω with its minimum at √(α/β), so the infimum is ζ(max(ω, √(α/β))), and ζ_m without β.
+    pub fn lightest_ratio_above(&self, omega: f64) -> f64 {
+        if self.beta > 0.0 {
+            self.ratio(omega.max((self.alpha / self.beta).sqrt()))
+        } else {
+            self.modal_ratio
+        }
     }
 }
 
@@ -231,7 +370,7 @@ pub struct Scene {
     pub initial: Initial,
     /// Built-in base motion.
     pub base: Base,
-    /// Rayleigh damping; absent from a scene file means none.
+    /// Damping; absent from a scene file (or any of its fields) means none.
     #[serde(default)]
     pub damping: Damping,
     /// Horizon (s) used by examples and as the FMU's default stop time.
@@ -285,11 +424,18 @@ impl Default for Scene {
     }
 }
 
-/// The named scenes shipped in `scenes/`, as (name, JSON text).
-pub const NAMED_SCENES: [(&str, &str); 4] = [
+/// The named scenes shipped in `scenes/`, as (name, JSON text). `forced-35hz-damped` is
+/// `forced-35hz` with stiffness-proportional damping β = 2ζ₁/ω₁ = 5.913e-5 s, ζ₁ = 1 % on the
+/// first mode of the paper's mesh (ω₁ = 338.23 rad/s, 53.83 Hz): the high modes damped enough
+/// for its impact statistics to converge at Δt = 1e-4 s (docs/accuracy/damping.md).
+pub const NAMED_SCENES: [(&str, &str); 5] = [
     ("forced", include_str!("../scenes/forced.json")),
     ("forced-30hz", include_str!("../scenes/forced-30hz.json")),
     ("forced-35hz", include_str!("../scenes/forced-35hz.json")),
+    (
+        "forced-35hz-damped",
+        include_str!("../scenes/forced-35hz-damped.json"),
+    ),
     ("energy", include_str!("../scenes/energy.json")),
 ];
 
@@ -364,9 +510,19 @@ impl Scene {
     /// text: numbers, booleans and enumeration names are accepted as they would be written in JSON
     /// (enumerations without quotes). The scene is validated afterwards.
     pub fn set(&mut self, key: &str, value: &str) -> Result<(), Error> {
-        let parsed = serde_json::from_str(value)
-            .unwrap_or_else(|_| serde_json::Value::String(value.to_string()));
-        let updated = self.with(key, parsed)?;
+        self.set_all(&[(key, value)])
+    }
+
+    /// Sets several parameters as [`Scene::set`] does, validating once after the last, so that
+    /// parameters valid only together (`damping.ratio` and its two frequencies) can be given in
+    /// any order. On an error the scene is unchanged.
+    pub fn set_all(&mut self, pairs: &[(&str, &str)]) -> Result<(), Error> {
+        let mut updated = self.clone();
+        for &(key, value) in pairs {
+            let parsed = serde_json::from_str(value)
+                .unwrap_or_else(|_| serde_json::Value::String(value.to_string()));
+            updated = updated.with(key, parsed)?;
+        }
         updated.validate()?;
         *self = updated;
         Ok(())
@@ -438,9 +594,10 @@ impl Scene {
         self.material.density * self.plate.thickness
     }
 
-    /// Built-in base displacement c sin(2π f t) (m).
+    /// Built-in base displacement c sin(2π f t) (m). The sine is the pure-Rust `libm` one, not the
+    /// platform's math library, so that every platform computes the same bits (docs/platforms.md).
     pub fn builtin_base(&self, t: f64) -> f64 {
-        self.base.amplitude * (2.0 * std::f64::consts::PI * self.base.frequency * t).sin()
+        self.base.amplitude * libm::sin(2.0 * std::f64::consts::PI * self.base.frequency * t)
     }
 
     /// Enabled lower obstacle level, if any.
@@ -555,16 +712,14 @@ impl Scene {
                 ),
             ));
         }
-        for (name, v) in [
-            ("damping.mass_proportional", self.damping.mass_proportional),
-            (
-                "damping.stiffness_proportional",
-                self.damping.stiffness_proportional,
-            ),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::invalid(name, v, "must be finite and >= 0"));
-            }
+        self.damping.validate()?;
+        if self.damping.is_modal() && self.solver.linear == LinearChoice::Sparse {
+            return Err(Error::invalid(
+                "damping.modal_ratio and solver.linear",
+                format!("{} and sparse", self.damping.modal_ratio),
+                "needs the modal backend (solver.linear = modal or auto): the sparse backend has \
+                 no eigenbasis to damp mode by mode",
+            ));
         }
         positive("stop_time", self.stop_time)?;
         Ok(())
@@ -607,7 +762,7 @@ mod tests {
     fn damping_defaults_to_none_and_refuses_negative_values_by_name() {
         let s = Scene::named("forced").unwrap();
         assert!(
-            s.damping.is_zero(),
+            s.damping == Damping::default() && s.damping.coefficients().is_zero(),
             "scene files without damping parse as undamped"
         );
         let mut s = Scene::default();
@@ -622,6 +777,120 @@ mod tests {
             assert!(err.to_string().contains(name), "{err}");
         }
         assert_eq!(s.damping.stiffness_proportional, 1e-5);
+    }
+
+    /// The Rayleigh pair of `damping.ratio`: ζ at both frequencies, by the formula of
+    /// [`DampingCoefficients::ratio`]; between them less, outside more.
+    #[test]
+    fn the_ratio_pair_gives_the_ratio_at_both_frequencies() {
+        let mut s = Scene::default();
+        let err = s
+            .clone()
+            .set("damping.ratio", "0.01")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("damping.frequency_low"), "{err}");
+        s.set_all(&[
+            ("damping.ratio", "0.01"),
+            ("damping.frequency_low", "53.83"),
+            ("damping.frequency_high", "5000"),
+        ])
+        .unwrap();
+        let c = s.damping.coefficients();
+        let omega = |f: f64| 2.0 * std::f64::consts::PI * f;
+        for f in [53.83, 5000.0] {
+            assert!((c.ratio(omega(f)) - 0.01).abs() < 1e-15, "{f} Hz");
+        }
+        assert!(c.ratio(omega(500.0)) < 0.01 && c.ratio(omega(20.0)) > 0.01);
+        assert!(c.ratio(omega(2e4)) > 0.01);
+        // The first look's pair (f₁ = ω₁/2π of the paper's mesh): α = 6.692 1/s, β = 6.298e-7 s.
+        assert!((c.alpha - 6.692).abs() < 5e-4 && (c.beta - 6.298e-7).abs() < 5e-11);
+        assert_eq!(c.modal_ratio, 0.0);
+    }
+
+    /// Every inconsistent combination is an error naming the parameters at fault, never a clamp.
+    #[test]
+    fn damping_combinations_are_checked_by_name() {
+        let pair = |ratio: &str, low: &str, high: &str| {
+            let mut s = Scene::default();
+            s.damping.ratio = ratio.parse().unwrap();
+            s.damping.frequency_low = low.parse().unwrap();
+            s.damping.frequency_high = high.parse().unwrap();
+            s
+        };
+        for (scene, names) in [
+            (pair("0.01", "0", "100"), vec!["damping.frequency_low"]),
+            (pair("0.01", "100", "100"), vec!["damping.frequency_high"]),
+            (pair("0.01", "200", "100"), vec!["damping.frequency_high"]),
+            (pair("-0.01", "10", "100"), vec!["damping.ratio"]),
+            (pair("0.01", "-10", "100"), vec!["damping.frequency_low"]),
+            (pair("NaN", "10", "100"), vec!["damping.ratio"]),
+            (
+                Scene {
+                    damping: Damping {
+                        mass_proportional: 1.0,
+                        ..pair("0.01", "10", "100").damping
+                    },
+                    ..Scene::default()
+                },
+                vec!["damping.ratio", "damping.mass_proportional"],
+            ),
+            (
+                Scene {
+                    damping: Damping {
+                        stiffness_proportional: 1e-6,
+                        ..pair("0.01", "10", "100").damping
+                    },
+                    ..Scene::default()
+                },
+                vec!["damping.ratio", "damping.stiffness_proportional"],
+            ),
+            (
+                Scene {
+                    damping: Damping {
+                        modal_ratio: -1.0,
+                        ..Damping::default()
+                    },
+                    ..Scene::default()
+                },
+                vec!["damping.modal_ratio"],
+            ),
+        ] {
+            let err = scene.validate().unwrap_err().to_string();
+            for name in names {
+                assert!(err.contains(name), "{err} should name {name}");
+            }
+        }
+        // Frequencies alone (ζ = 0) do nothing and are accepted, as are α and β with ζ = 0.
+        pair("0", "200", "100").validate().unwrap();
+        let mut s = Scene::default();
+        s.damping.modal_ratio = 0.02;
+        s.validate().unwrap();
+        s.solver.linear = LinearChoice::Sparse;
+        let err = s.validate().unwrap_err().to_string();
+        assert!(
+            err.contains("damping.modal_ratio") && err.contains("solver.linear"),
+            "{err}"
+        );
+    }
+
+    /// The smallest ratio above a frequency: ζ is convex in ω with its minimum at √(α/β).
+    #[test]
+    fn the_lightest_ratio_above_a_frequency() {
+        let c = DampingCoefficients {
+            alpha: 100.0,
+            beta: 1e-6,
+            modal_ratio: 0.0,
+        };
+        let turn = (c.alpha / c.beta).sqrt();
+        assert_eq!(c.lightest_ratio_above(1.0), c.ratio(turn));
+        assert_eq!(c.lightest_ratio_above(2.0 * turn), c.ratio(2.0 * turn));
+        let mass_only = DampingCoefficients {
+            alpha: 100.0,
+            beta: 0.0,
+            modal_ratio: 0.01,
+        };
+        assert_eq!(mass_only.lightest_ratio_above(1e4), 0.01);
     }
 
     #[test]

@@ -24,6 +24,7 @@ use plate_impact::fmi::variables::{vr, Description, Kind, FMI2, FMI3};
 use proptest::prelude::*;
 use std::ffi::CString;
 
+const WARNING: fmi2Status = 1;
 const ERROR: fmi2Status = 3;
 
 /// Calls of version `d`, weighted towards those that make a run go on, so that sequences get
@@ -172,7 +173,9 @@ fn null_pointers_and_garbage_are_errors_not_crashes() {
         let c = instance();
         assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), 0);
         assert_eq!(fmi2EnterInitializationMode(c), 0);
-        assert_eq!(fmi2ExitInitializationMode(c), 0);
+        // The default scene has obstacles and no damping of the high modes: its impact statistics
+        // may not converge, which the FMU says with a warning (docs/accuracy/damping.md).
+        assert_eq!(fmi2ExitInitializationMode(c), WARNING);
         assert_eq!(
             fmi2GetReal(c, std::ptr::null(), 1, std::ptr::null_mut()),
             ERROR

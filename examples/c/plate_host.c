@@ -6,12 +6,16 @@
  * the discrete energy, saves the FMU state at 0.5 s, restores it, runs the second half again and
  * checks that it repeats bit for bit. Values are printed as C99 hexadecimal floats (%a), exact.
  *
- * One source, two builds (commands in README.md, "From C"):
+ * One source, two builds (commands in docs/usage.md, "From C"):
  *   - default: loads binaries/linux64/PlateImpact.so of an unzipped FMU with dlopen, as FMU
- *     importers do;
+ *     importers do (binaries/win64/PlateImpact.dll on Windows; -DPLATE_HOST_BINARY='"..."' names
+ *     another binary of the FMU, such as binaries/aarch64-linux/PlateImpact.so of the FMI 3.0 FMU,
+ *     the same library, which exports the FMI 2.0 functions too);
  *   - -DPLATE_HOST_LINKED: the library is linked at build time (-l:PlateImpact.so, with an rpath).
- * Both take the unzipped FMU's directory as their only argument and include the FMI 2.0 headers
- * of an installed FMI package (fmpy ships them).
+ * Both take the unzipped FMU's directory as their first argument and include the FMI 2.0 headers
+ * of an installed FMI package (fmpy ships them). With --trajectory as second argument the host
+ * also prints the outputs at every communication point of the first run ("point" lines), which
+ * tests/fmu/test_platforms.py compares across platforms.
  *
  * The value references and the GUID below are copied from modelDescription.xml; the test
  * tests/fmu/test_c_host.py fails, naming the variable, if any of them no longer matches it.
@@ -28,6 +32,15 @@
 
 #ifndef PLATE_HOST_LINKED
 #include <dlfcn.h>
+#endif
+
+/* The binary loaded with dlopen, relative to the unzipped FMU's directory. */
+#ifndef PLATE_HOST_BINARY
+#ifdef _WIN32
+#define PLATE_HOST_BINARY "binaries/win64/PlateImpact.dll"
+#else
+#define PLATE_HOST_BINARY "binaries/linux64/PlateImpact.so"
+#endif
 #endif
 
 #define PLATE_IMPACT_GUID "{75cd278b-8e21-4b2a-874d-f1cc0adc599e}"
@@ -91,7 +104,7 @@ static void *library;
 
 static int load(const char *fmu_dir, Fmi2 *fmi) {
     char path[PATH_MAX];
-    snprintf(path, sizeof path, "%s/binaries/linux64/PlateImpact.so", fmu_dir);
+    snprintf(path, sizeof path, "%s/" PLATE_HOST_BINARY, fmu_dir);
     library = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (!library) {
         fprintf(stderr, "cannot load %s: %s\n", path, dlerror());
@@ -137,10 +150,18 @@ static void logger(fmi2ComponentEnvironment environment, fmi2String instance, fm
         }                                                                                        \
     } while (0)
 
-/* Takes the communication steps from t = first·STEP_SIZE to t = last·STEP_SIZE. The host may
- * restore an earlier state afterwards, so noSetFMUStatePriorToCurrentPoint is fmi2False. */
-static void advance(const Fmi2 *fmi, fmi2Component c, int first, int last) {
-    for (int k = first; k < last; k++) CHECK(fmi->DoStep(c, k * STEP_SIZE, STEP_SIZE, fmi2False));
+/* Takes the communication steps from t = first·STEP_SIZE to t = last·STEP_SIZE; with `trace`,
+ * prints the outputs after each ("point k y1 y2 y3", exact). The host may restore an earlier state
+ * afterwards, so noSetFMUStatePriorToCurrentPoint is fmi2False. */
+static void advance(const Fmi2 *fmi, fmi2Component c, int first, int last, int trace) {
+    for (int k = first; k < last; k++) {
+        CHECK(fmi->DoStep(c, k * STEP_SIZE, STEP_SIZE, fmi2False));
+        if (trace) {
+            double y[OUTPUT_COUNT];
+            CHECK(fmi->GetReal(c, output_vrs, OUTPUT_COUNT, y));
+            printf("point %d %a %a %a\n", k + 1, y[0], y[1], y[2]);
+        }
+    }
 }
 
 static void print_outputs(const char *label, const double y[OUTPUT_COUNT]) {
@@ -149,8 +170,9 @@ static void print_outputs(const char *label, const double y[OUTPUT_COUNT]) {
 }
 
 int main(int argc, char **argv) {
-    if (argc != 2) {
-        fprintf(stderr, "usage: %s UNZIPPED_FMU_DIRECTORY\n", argv[0]);
+    const int trace = argc == 3 && strcmp(argv[2], "--trajectory") == 0;
+    if (argc != 2 && !trace) {
+        fprintf(stderr, "usage: %s UNZIPPED_FMU_DIRECTORY [--trajectory]\n", argv[0]);
         return EXIT_FAILURE;
     }
     Fmi2 fmi;
@@ -193,17 +215,17 @@ int main(int argc, char **argv) {
     CHECK(fmi.ExitInitializationMode(c));
 
     const int half = STEP_COUNT / 2;
-    advance(&fmi, c, 0, half);
+    advance(&fmi, c, 0, half, trace);
     fmi2FMUstate state = NULL;
     CHECK(fmi.GetFMUstate(c, &state));
-    advance(&fmi, c, half, STEP_COUNT);
+    advance(&fmi, c, half, STEP_COUNT, trace);
     double final[OUTPUT_COUNT];
     CHECK(fmi.GetReal(c, output_vrs, OUTPUT_COUNT, final));
     print_outputs("final", final);
 
     /* Back to the saved state: the second half must repeat exactly. */
     CHECK(fmi.SetFMUstate(c, state));
-    advance(&fmi, c, half, STEP_COUNT);
+    advance(&fmi, c, half, STEP_COUNT, 0);
     double repeated[OUTPUT_COUNT];
     CHECK(fmi.GetReal(c, output_vrs, OUTPUT_COUNT, repeated));
     print_outputs("restored", repeated);

@@ -1,56 +1,351 @@
-//! Builds both FMUs: `cargo run --release --bin package-fmu`.
-//!
-//! Runs `cargo build --release --lib` (the cdylib, which exports the FMI 2.0 and the FMI 3.0
-//! functions), then writes two zip archives into `target/fmu/`:
+//! Builds both FMUs into `target/fmu/` (the target directory follows `CARGO_TARGET_DIR`):
 //! * `PlateImpact.fmu`, FMI 2.0 Co-Simulation: `modelDescription.xml` (from
-//!   `modelDescription/modelDescription.xml`) and `binaries/linux64/PlateImpact.so` (FMI 2.0 §2.3);
+//!   `modelDescription/modelDescription.xml`) and its binaries under `binaries/linux64/` and
+//!   `binaries/win64/` (FMI 2.0 §2.3);
 //! * `PlateImpact-fmi3.fmu`, FMI 3.0 Co-Simulation: `modelDescription.xml` (from
-//!   `modelDescription/modelDescription-fmi3.xml`) and `binaries/x86_64-linux/PlateImpact.so`
-//!   (FMI 3.0 §2.5, platform tuples).
+//!   `modelDescription/modelDescription-fmi3.xml`) and its binaries under
+//!   `binaries/<platform tuple>/` (FMI 3.0 §2.5).
 //!
-//! The target directory follows `CARGO_TARGET_DIR` when set.
+//! Every binary is the same cdylib (it exports the FMI 2.0 and the FMI 3.0 functions), built for
+//! one platform. Two modes (docs/platforms.md):
+//! * `cargo run --release --bin package-fmu`, the developer FMUs: `cargo build --release --lib`,
+//!   this machine's x86_64 Linux library only, with debug info, linked against this machine's glibc;
+//! * `cargo run --release --bin package-fmu -- --all-platforms` (or `PLATE_IMPACT_PLATFORMS=all`),
+//!   the release FMUs: three binaries (five entries in the two FMUs) built with the `release-fmu`
+//!   profile (the release profile without debug info, stripped), by cross toolchains from the
+//!   package registries: x86_64 Linux and aarch64 Linux (FMI 3.0 only: FMI 2.0 has no standard
+//!   folder for it) linked by zig against glibc 2.17 (`cargo zigbuild`), x86_64 Windows linked by
+//!   mingw-w64; each compiled with the rustup target when it is installed, else with Debian's Rust
+//!   and `-Zbuild-std`. It says what it runs and stops, naming the package to install, when a tool
+//!   is missing.
 
 use plate_impact::fmi::variables::MODEL_IDENTIFIER;
+use std::ffi::OsString;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
+use std::time::Instant;
 use zip::write::SimpleFileOptions;
 use zip::CompressionMethod;
 
-/// One FMU to write: its file name, its model description and the binaries folder of its version.
-struct Fmu {
-    file: String,
-    description: &'static str,
-    platform: &'static str,
+/// The profile of the release binaries (Cargo.toml): release without debug info, stripped.
+const RELEASE_PROFILE: &str = "release-fmu";
+/// The oldest glibc the release Linux libraries run on (RHEL 7, Debian 8 and later).
+const GLIBC: &str = "2.17";
+/// Where Debian's `rustc-web` and `cargo-web` put the compiler used with `-Zbuild-std`.
+const DEBIAN_CARGO: &str = "/usr/bin/cargo";
+/// Where Debian's `rust-web-src` puts the standard library's sources that `-Zbuild-std` compiles.
+const DEBIAN_RUST_SRC: &str = "/usr/lib/rustlib/src/rust/library";
+
+/// One platform of the release FMUs.
+struct Platform {
+    /// FMI 3.0 platform tuple, the folder under `binaries/` of the FMI 3.0 FMU.
+    fmi3: &'static str,
+    /// FMI 2.0 folder, where the standard has one.
+    fmi2: Option<&'static str>,
+    /// Rust target triple.
+    triple: &'static str,
+    /// What links the binary.
+    linker: Linker,
 }
 
-/// The shared-library name of the cdylib and the FMU platform folders (FMI 2.0, FMI 3.0) of the
-/// platform we run on.
-fn platform() -> Result<(&'static str, [&'static str; 2]), String> {
-    if cfg!(all(target_os = "linux", target_arch = "x86_64")) {
-        Ok(("libplate_impact.so", ["linux64", "x86_64-linux"]))
+/// What links a release binary. The compiler is the rustup target when installed, else Debian's
+/// Rust with `-Zbuild-std`.
+enum Linker {
+    /// zig, through `cargo zigbuild --target <triple>.<GLIBC>`: links against the symbol versions
+    /// of glibc `GLIBC`.
+    Zig,
+    /// The C cross compiler `command`, from the Debian package `package`.
+    Gcc {
+        command: &'static str,
+        package: &'static str,
+    },
+}
+
+const PLATFORMS: [Platform; 3] = [
+    Platform {
+        fmi3: "x86_64-linux",
+        fmi2: Some("linux64"),
+        triple: "x86_64-unknown-linux-gnu",
+        linker: Linker::Zig,
+    },
+    Platform {
+        fmi3: "x86_64-windows",
+        fmi2: Some("win64"),
+        triple: "x86_64-pc-windows-gnu",
+        linker: Linker::Gcc {
+            command: "x86_64-w64-mingw32-gcc",
+            package: "gcc-mingw-w64-x86-64",
+        },
+    },
+    Platform {
+        fmi3: "aarch64-linux",
+        fmi2: None,
+        triple: "aarch64-unknown-linux-gnu",
+        linker: Linker::Zig,
+    },
+];
+
+/// One binary to pack: the FMU folders it goes to (FMI 2.0, if any; FMI 3.0) and its bytes.
+struct Binary {
+    fmi2: Option<&'static str>,
+    fmi3: &'static str,
+    /// `so` or `dll`.
+    extension: &'static str,
+    bytes: Vec<u8>,
+}
+
+/// The file name cargo gives the cdylib on `triple`.
+fn cdylib_name(triple: &str) -> &'static str {
+    if triple.contains("windows") {
+        "plate_impact.dll"
     } else {
-        Err("package-fmu supports linux x86_64 only so far".into())
+        "libplate_impact.so"
     }
 }
 
-/// Writes `fmu` into `out_dir` with the shared library `binary`.
-fn write_fmu(root: &Path, out_dir: &Path, fmu: &Fmu, binary: &[u8]) -> Result<PathBuf, String> {
-    let description_path = root.join(fmu.description);
-    let description = std::fs::read(&description_path)
-        .map_err(|e| format!("cannot read {}: {e}", description_path.display()))?;
-    let path = out_dir.join(&fmu.file);
-    let file = std::fs::File::create(&path)
+/// Runs `command`, echoing it first, and fails naming it unless it succeeds.
+fn run_command(mut command: Command) -> Result<(), String> {
+    let shown = format!("{command:?}");
+    eprintln!("package-fmu: running {shown}");
+    let status = command
+        .status()
+        .map_err(|e| format!("cannot run {shown}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("{shown} failed ({status})"))
+    }
+}
+
+fn read(path: &Path) -> Result<Vec<u8>, String> {
+    std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+}
+
+/// `name` on `PATH`, if there.
+fn on_path(name: &str, path: &OsString) -> Option<PathBuf> {
+    std::env::split_paths(path)
+        .map(|dir| dir.join(name))
+        .find(|file| file.is_file())
+}
+
+/// The developer build: `cargo build --release --lib` for this machine.
+fn host_binary(root: &Path, target: &Path) -> Result<Binary, String> {
+    if !cfg!(all(target_os = "linux", target_arch = "x86_64")) {
+        return Err("package-fmu supports x86_64 Linux hosts only".into());
+    }
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut command = Command::new(cargo);
+    command
+        .args(["build", "--release", "--lib"])
+        .current_dir(root);
+    run_command(command)?;
+    Ok(Binary {
+        fmi2: Some("linux64"),
+        fmi3: "x86_64-linux",
+        extension: "so",
+        bytes: read(&target.join("release").join(cdylib_name("")))?,
+    })
+}
+
+/// The tools of the release build, found up front so that a missing one is named before any
+/// build starts.
+struct Tools {
+    /// PATH for the builds: the project's `.venv/bin` (where scripts/python-env installs
+    /// cargo-zigbuild and zig) before the caller's PATH.
+    path: OsString,
+    /// rustup's (or the caller's) cargo and rustc.
+    cargo: OsString,
+    rustc: OsString,
+}
+
+impl Tools {
+    fn find(root: &Path) -> Result<Self, String> {
+        let caller = std::env::var_os("PATH").unwrap_or_default();
+        let venv = root.join(".venv").join("bin");
+        let path =
+            std::env::join_paths(std::iter::once(venv).chain(std::env::split_paths(&caller)))
+                .map_err(|e| format!("cannot extend PATH: {e}"))?;
+        let tools = Tools {
+            path,
+            cargo: std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()),
+            rustc: std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into()),
+        };
+        let mut missing = Vec::new();
+        if on_path("cargo-zigbuild", &tools.path).is_none() {
+            missing.push(
+                "cargo-zigbuild and zig (pip install cargo-zigbuild ziglang, as .ci/run does)"
+                    .to_string(),
+            );
+        }
+        let debian = Path::new(DEBIAN_CARGO).is_file() && Path::new(DEBIAN_RUST_SRC).is_dir();
+        for platform in &PLATFORMS {
+            if let Linker::Gcc { command, package } = platform.linker {
+                if on_path(command, &tools.path).is_none() {
+                    missing.push(format!("{command} (Debian: apt-get install {package})"));
+                }
+            }
+            if !tools.has_rustup_target(platform.triple) && !debian {
+                missing.push(format!(
+                    "the Rust standard library for {} (rustup target add {0}, or Debian: \
+                     apt-get install rustc-web cargo-web rust-web-src)",
+                    platform.triple
+                ));
+            }
+        }
+        if missing.is_empty() {
+            Ok(tools)
+        } else {
+            Err(format!(
+                "--all-platforms needs tools that are not installed:\n  {}",
+                missing.join("\n  ")
+            ))
+        }
+    }
+
+    /// Whether the caller's Rust toolchain has the standard library for `triple` (a rustup
+    /// target).
+    fn has_rustup_target(&self, triple: &str) -> bool {
+        Command::new(&self.rustc)
+            .args(["--print", "target-libdir", "--target", triple])
+            .output()
+            .ok()
+            .filter(|out| out.status.success())
+            .map(|out| PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()))
+            .is_some_and(|dir| dir.is_dir())
+    }
+
+    /// Builds the release binary of `platform`; returns the path of the cdylib.
+    fn build(&self, root: &Path, target: &Path, platform: &Platform) -> Result<PathBuf, String> {
+        let triple = platform.triple;
+        let (subcommand, target_arg, linked_by) = match platform.linker {
+            Linker::Zig => (
+                "zigbuild",
+                format!("{triple}.{GLIBC}"),
+                format!("zig against glibc {GLIBC}"),
+            ),
+            Linker::Gcc { command, .. } => ("build", triple.to_string(), command.to_string()),
+        };
+        let (mut command, target_dir) = if self.has_rustup_target(triple) {
+            eprintln!(
+                "package-fmu: {}: the rustup target {triple}, linked by {linked_by}",
+                platform.fmi3
+            );
+            let mut command = Command::new(&self.cargo);
+            command.arg(subcommand).env("PATH", &self.path);
+            (command, target.to_path_buf())
+        } else {
+            // Debian's rustc has no prebuilt standard library for other targets: cargo compiles
+            // it from rust-web-src (-Zbuild-std, unlocked on this stable compiler by
+            // RUSTC_BOOTSTRAP=1). Its cargo and rustc come first on PATH after .venv/bin (whose
+            // python3 has zig for cargo-zigbuild, which runs the cargo that called it). Its own
+            // target directory keeps its artifacts apart from the rustup toolchain's.
+            eprintln!(
+                "package-fmu: {}: Debian's Rust ({}) with -Zbuild-std (RUSTC_BOOTSTRAP=1), \
+                 linked by {linked_by}",
+                platform.fmi3,
+                debian_rustc_version()
+            );
+            let mut paths: Vec<PathBuf> = std::env::split_paths(&self.path).collect();
+            paths.insert(1, PathBuf::from("/usr/bin"));
+            let path =
+                std::env::join_paths(paths).map_err(|e| format!("cannot extend PATH: {e}"))?;
+            let mut command = Command::new(DEBIAN_CARGO);
+            command
+                .args([subcommand, "-Zbuild-std"])
+                .env("PATH", path)
+                .env("RUSTC_BOOTSTRAP", "1")
+                .env_remove("CARGO")
+                .env_remove("RUSTC")
+                .env_remove("RUSTDOC")
+                .env_remove("RUSTUP_TOOLCHAIN");
+            (command, target.join("build-std"))
+        };
+        command
+            .args(["--profile", RELEASE_PROFILE, "--lib", "--target"])
+            .arg(target_arg)
+            .arg("--target-dir")
+            .arg(&target_dir)
+            .current_dir(root);
+        if let Linker::Gcc {
+            command: linker, ..
+        } = platform.linker
+        {
+            let variable = format!(
+                "CARGO_TARGET_{}_LINKER",
+                triple.to_uppercase().replace('-', "_")
+            );
+            command.env(variable, linker);
+        }
+        let start = Instant::now();
+        run_command(command)?;
+        eprintln!(
+            "package-fmu: {} built in {:.0} s",
+            platform.fmi3,
+            start.elapsed().as_secs_f64()
+        );
+        Ok(target_dir
+            .join(triple)
+            .join(RELEASE_PROFILE)
+            .join(cdylib_name(triple)))
+    }
+}
+
+/// `rustc --version` of Debian's compiler, for the log.
+fn debian_rustc_version() -> String {
+    Command::new("/usr/bin/rustc")
+        .arg("--version")
+        .output()
+        .map(|out| String::from_utf8_lossy(&out.stdout).trim().to_string())
+        .unwrap_or_else(|e| format!("rustc --version failed: {e}"))
+}
+
+/// The release builds, one binary per platform.
+fn release_binaries(root: &Path, target: &Path) -> Result<Vec<Binary>, String> {
+    let tools = Tools::find(root)?;
+    PLATFORMS
+        .iter()
+        .map(|platform| {
+            let path = tools.build(root, target, platform)?;
+            Ok(Binary {
+                fmi2: platform.fmi2,
+                fmi3: platform.fmi3,
+                extension: if platform.triple.contains("windows") {
+                    "dll"
+                } else {
+                    "so"
+                },
+                bytes: read(&path)?,
+            })
+        })
+        .collect()
+}
+
+/// Writes the FMU `file` into `out_dir`: the model description at `description` and the binaries,
+/// each under `binaries/<folder>/` where `folder` gives it one.
+fn write_fmu(
+    root: &Path,
+    out_dir: &Path,
+    file: &str,
+    description: &str,
+    binaries: &[Binary],
+    folder: impl Fn(&Binary) -> Option<&'static str>,
+) -> Result<PathBuf, String> {
+    let description = read(&root.join(description))?;
+    let path = out_dir.join(file);
+    let out = std::fs::File::create(&path)
         .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
-    let mut zip = zip::ZipWriter::new(file);
+    let mut zip = zip::ZipWriter::new(out);
     let options = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
-    let entries = [
-        ("modelDescription.xml".to_string(), description.as_slice()),
-        (
-            format!("binaries/{}/{MODEL_IDENTIFIER}.so", fmu.platform),
-            binary,
-        ),
-    ];
+    let mut entries = vec![("modelDescription.xml".to_string(), description.as_slice())];
+    for binary in binaries {
+        if let Some(folder) = folder(binary) {
+            entries.push((
+                format!("binaries/{folder}/{MODEL_IDENTIFIER}.{}", binary.extension),
+                &binary.bytes,
+            ));
+        }
+    }
     for (name, bytes) in entries {
         zip.start_file(name.as_str(), options)
             .and_then(|()| zip.write_all(bytes).map_err(Into::into))
@@ -61,42 +356,63 @@ fn write_fmu(root: &Path, out_dir: &Path, fmu: &Fmu, binary: &[u8]) -> Result<Pa
     Ok(path)
 }
 
+/// Whether the release FMUs were asked for: `--all-platforms` or `PLATE_IMPACT_PLATFORMS=all`.
+fn all_platforms() -> Result<bool, String> {
+    let mut all = match std::env::var("PLATE_IMPACT_PLATFORMS").as_deref() {
+        Ok("all") => true,
+        Ok("" | "host") | Err(_) => false,
+        Ok(other) => {
+            return Err(format!(
+                "PLATE_IMPACT_PLATFORMS={other}: expected `all` or `host`"
+            ))
+        }
+    };
+    for arg in std::env::args().skip(1) {
+        match arg.as_str() {
+            "--all-platforms" => all = true,
+            _ => {
+                return Err(format!(
+                    "unknown argument {arg} (the only one is --all-platforms)"
+                ))
+            }
+        }
+    }
+    Ok(all)
+}
+
 fn run() -> Result<Vec<PathBuf>, String> {
+    let all = all_platforms()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .map(|t| if t.is_absolute() { t } else { root.join(t) })
         .unwrap_or_else(|| root.join("target"));
-    let (library, [fmi2_platform, fmi3_platform]) = platform()?;
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
-        .args(["build", "--release", "--lib"])
-        .current_dir(root)
-        .status()
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
-    if !status.success() {
-        return Err(format!("cargo build --release --lib failed ({status})"));
-    }
-    let so = target.join("release").join(library);
-    let binary = std::fs::read(&so).map_err(|e| format!("cannot read {}: {e}", so.display()))?;
+    let binaries = if all {
+        release_binaries(root, &target)?
+    } else {
+        vec![host_binary(root, &target)?]
+    };
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
-    let fmus = [
-        Fmu {
-            file: format!("{MODEL_IDENTIFIER}.fmu"),
-            description: "modelDescription/modelDescription.xml",
-            platform: fmi2_platform,
-        },
-        Fmu {
-            file: format!("{MODEL_IDENTIFIER}-fmi3.fmu"),
-            description: "modelDescription/modelDescription-fmi3.xml",
-            platform: fmi3_platform,
-        },
-    ];
-    fmus.iter()
-        .map(|fmu| write_fmu(root, &out_dir, fmu, &binary))
-        .collect()
+    Ok(vec![
+        write_fmu(
+            root,
+            &out_dir,
+            &format!("{MODEL_IDENTIFIER}.fmu"),
+            "modelDescription/modelDescription.xml",
+            &binaries,
+            |b| b.fmi2,
+        )?,
+        write_fmu(
+            root,
+            &out_dir,
+            &format!("{MODEL_IDENTIFIER}-fmi3.fmu"),
+            "modelDescription/modelDescription-fmi3.xml",
+            &binaries,
+            |b| Some(b.fmi3),
+        )?,
+    ])
 }
 
 fn main() -> ExitCode {

@@ -94,7 +94,7 @@ impl ArgyrisCell {
             if global_ids[k] > global_ids[l] {
                 std::mem::swap(&mut a, &mut b);
             }
-            let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+            let len = libm::hypot(b[0] - a[0], b[1] - a[1]);
             s = s.max(len);
             let t = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
             normals[k] = [t[1], -t[0]];

@@ -377,7 +377,7 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 fn norm(a: [f64; 2]) -> f64 {
-    a[0].hypot(a[1])
+    libm::hypot(a[0], a[1])
 }
 
 fn dot(a: &[f64; MONOMIALS], b: &[f64; MONOMIALS]) -> f64 {

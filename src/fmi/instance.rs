@@ -262,12 +262,13 @@ impl<V: Version, M: Model> Instance<V, M> {
         Ok(())
     }
 
-    /// Exit initialization mode: the model checks its parameters and sets itself up.
-    pub fn exit_initialization_mode(&mut self) -> Result<(), Failure> {
+    /// Exit initialization mode: the model checks its parameters and sets itself up; a warning
+    /// it logs (settings whose impact statistics may not converge) makes the status Warning.
+    pub fn exit_initialization_mode(&mut self) -> Result<Status, Failure> {
         self.enter(V::EXIT_INITIALIZATION_MODE)?;
-        self.model.exit_initialization()?;
+        let status = self.model.exit_initialization(&mut self.log)?;
         self.mode = V::STEPPING;
-        Ok(())
+        Ok(status)
     }
 
     /// Terminate.

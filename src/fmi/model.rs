@@ -112,7 +112,8 @@ pub trait Model: Send + Sized {
     fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), Failure>;
 
     /// The end of initialization: the last chance to refuse the parameters; sets the model up.
-    fn exit_initialization(&mut self) -> Result<(), Failure>;
+    /// Returns [`Status::Warning`] when it logged a warning to `log`.
+    fn exit_initialization(&mut self, log: &mut Logger) -> Result<Status, Failure>;
 
     /// The current time (s).
     fn time(&self, phase: Phase) -> f64;

@@ -24,7 +24,7 @@ use serde::Serialize;
 /// First bytes of every serialized state.
 pub const MAGIC: [u8; 8] = *b"PLIMPST\0";
 /// Version of this layout and of the payload's structure; bump when either changes.
-pub const FORMAT_VERSION: u32 = 4;
+pub const FORMAT_VERSION: u32 = 5;
 /// The crate version written into (and required from) a serialized state.
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 

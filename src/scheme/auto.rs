@@ -20,10 +20,16 @@ use std::sync::Arc;
 /// Δt = 1e-4 s; a run of the default 1 s breaks even near 2 300 (Argyris) to 2 400 (FVS) free dofs.
 pub const MODAL_AUTO_LIMIT: usize = 2000;
 
-/// The backend `choice` names, `auto` resolved by the number of free dofs.
-pub fn resolve(choice: LinearChoice, free_dofs: usize) -> LinearChoice {
-    match choice {
-        LinearChoice::Auto if free_dofs <= MODAL_AUTO_LIMIT => LinearChoice::Modal,
+/// The backend the `solver.linear` of `scene` names, `auto` resolved by the number of free dofs,
+/// except that a modal damping ratio (`damping.modal_ratio` > 0) needs the eigenbasis and makes
+/// `auto` modal at every size: the memory budget then refuses a mesh whose dense eigenbasis does
+/// not fit, naming the modal backend ([`crate::budget`]). An explicit `sparse` with a modal ratio
+/// is refused by [`Scene::validate`].
+pub fn resolve(scene: &Scene, free_dofs: usize) -> LinearChoice {
+    match scene.solver.linear {
+        LinearChoice::Auto if free_dofs <= MODAL_AUTO_LIMIT || scene.damping.is_modal() => {
+            LinearChoice::Modal
+        }
         LinearChoice::Auto => LinearChoice::Sparse,
         choice => choice,
     }

@@ -12,7 +12,7 @@ use super::vectors::dot;
 use crate::assembly::dofs_per_vertex;
 use crate::contact::add_product;
 use crate::modes::sparse_restriction;
-use crate::scene::{Damping, Scene};
+use crate::scene::{DampingCoefficients, Scene};
 use crate::system::PlateSystem;
 use faer::sparse::SparseColMat;
 use std::sync::Arc;
@@ -31,8 +31,8 @@ pub struct FreeSystem {
     /// A₀ = M_ff + ½Δt²K_ff, the matrix of the start step, which has no damping term (v_0 = 0);
     /// `None` without damping (then A).
     start_system: Option<Arc<SparseColMat<usize, f64>>>,
-    /// The scene's damping.
-    pub damping: Damping,
+    /// The scene's damping as the scheme applies it.
+    pub damping: DampingCoefficients,
     /// f_f for a 1 Pa pressure.
     pub load: Vec<f64>,
     /// m₁ = (M𝟙)_f: the mass matrix times the rigid translation, on the free dofs.
@@ -61,8 +61,8 @@ impl FreeSystem {
         let mass = sparse_restriction(plate.mass.as_ref(), keep);
         let stiffness = sparse_restriction(plate.stiffness.as_ref(), keep);
         let dt = scene.solver.time_step;
-        let damping = scene.damping.clone();
-        let (alpha, beta) = (damping.mass_proportional, damping.stiffness_proportional);
+        let damping = scene.damping.coefficients();
+        let (alpha, beta) = (damping.alpha, damping.beta);
         // a·M + b·K; for α = β = 0 the system is M·1 + K·½Δt², bit for bit M + ½Δt²K.
         let combine = |a: f64, b: f64| &(&mass * faer::Scale(a)) + &(&stiffness * faer::Scale(b));
         let half_dt2 = 0.5 * dt * dt;

@@ -1,7 +1,7 @@
 //! The contact-free part of the scheme in the M-orthonormal eigenbasis of the clamped plate.
 //!
-//! With w_f = Φ q, Φᵀ M_ff Φ = I, Φᵀ K_ff Φ = Ω² and, for Rayleigh damping C = αM + βK,
-//! Φᵀ C_ff Φ = diag(c_k) with c_k = α + βω_k², the β = ½ scheme (docs/scheme.md) decouples into
+//! With w_f = Φ q, Φᵀ M_ff Φ = I, Φᵀ K_ff Φ = Ω² and, for Rayleigh damping C = αM + βK plus the
+//! modal ratio ζ_m, Φᵀ C_ff Φ = diag(c_k) with c_k = α + βω_k² + 2ζ_mω_k, the β = ½ scheme (docs/scheme.md) decouples into
 //! one scalar recurrence per mode k, with d_k = 1 + ½Δt²ω_k² + ½Δt c_k:
 //!   d_k q_{n+1} = 2 q_n − (d_k − Δt c_k) q_{n−1} + (Φᵀ r)_k
 //! (start step, undamped: (1 + ½Δt²ω_k²) q_1 = q_0 + (Φᵀ r)_k), where r is the free-dof forcing of
@@ -25,7 +25,7 @@ use super::vectors::{dot, sum_of_squares};
 use crate::contact::{ActiveSetSolver, BoundState, DenseDelassus, PdasReport, PdasSettings};
 use crate::error::Error;
 use crate::modes::Modes;
-use crate::scene::Damping;
+use crate::scene::DampingCoefficients;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, ColRef, Mat, MatMut, Par};
 use std::sync::Arc;
@@ -49,7 +49,12 @@ struct ModalSystem {
 
 impl ModalSystem {
     /// The system with d_k = 1 + ½Δt²ω_k² + ½Δt c_k and the constrained rows `c` of Φ.
-    fn new(omega_squared: &[f64], damping: &Damping, time_step: f64, c: &Mat<f64>) -> ModalSystem {
+    fn new(
+        omega_squared: &[f64],
+        damping: &DampingCoefficients,
+        time_step: f64,
+        c: &Mat<f64>,
+    ) -> ModalSystem {
         let (m, n) = (c.nrows(), c.ncols());
         let coefficient: Vec<f64> = omega_squared
             .iter()
@@ -119,7 +124,7 @@ pub struct ModalData {
     start: Option<ModalSystem>,
     /// ω_k².
     omega_squared: Vec<f64>,
-    /// c_k = α + βω_k² (1/s), the modal damping coefficients.
+    /// c_k = α + βω_k² + 2ζ_mω_k (1/s), the modal damping coefficients.
     damping: Vec<f64>,
     /// Φ (free dofs × modes), to map back to physical dofs.
     shapes: Mat<f64>,
@@ -156,8 +161,8 @@ pub struct FreeDofData<'a> {
     pub outputs: &'a [Vec<f64>; 3],
     /// M_ff, dense.
     pub mass: Mat<f64>,
-    /// The Rayleigh damping.
-    pub damping: &'a Damping,
+    /// The damping (Rayleigh and modal ratio).
+    pub damping: &'a DampingCoefficients,
 }
 
 impl ModalData {
@@ -168,8 +173,14 @@ impl ModalData {
         let shapes = modes.shapes;
         let c = Mat::from_fn(m, n, |i, k| shapes[(free.constrained[i], k)]);
         let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c);
-        let start = (!free.damping.is_zero())
-            .then(|| ModalSystem::new(&modes.omega_squared, &Damping::default(), time_step, &c));
+        let start = (!free.damping.is_zero()).then(|| {
+            ModalSystem::new(
+                &modes.omega_squared,
+                &DampingCoefficients::default(),
+                time_step,
+                &c,
+            )
+        });
         // Φᵀv.
         let project = |v: &[f64]| -> Vec<f64> {
             let projected = shapes.transpose() * ColRef::from_slice(v);
@@ -635,7 +646,7 @@ mod tests {
         let constrained: Vec<usize> = (0..m).map(|i| 5 * i).collect();
         let zeros = vec![0.0; n];
         let outputs = [zeros.clone(), zeros.clone(), zeros.clone()];
-        let damping = Damping::default();
+        let damping = DampingCoefficients::default();
         Arc::new(ModalData::new(
             Modes {
                 omega_squared,

@@ -25,6 +25,11 @@ pub struct Outputs {
     /// equation at t_n of the last step (t_{n+1} − Δt), while the displacements are at t_{n+1};
     /// at t_0 the static value p₀·∫1 + Σλ of the preload.
     pub base_force: f64,
+    /// J_n = Σ_{j<n} (−G_j) Δt: the impulse of the force on the base over the internal steps since
+    /// t_0 (N·s), the rectangle rule on the forces of `base_force`, so that over internal steps
+    /// whose base moves with a constant velocity s (z_{j+1} − z_{j−1} = 2sΔt) the base work
+    /// changes by −s·ΔJ exactly (docs/fmu.md, "Coupling both ways").
+    pub base_impulse: f64,
     /// Work done on the plate by the base since t_1 (J).
     pub base_work: f64,
     /// Work done by `load.pressure` since t_1, net of its potential's change (J).
@@ -67,6 +72,7 @@ real_fields!(
     energy_total,
     contact_force,
     base_force,
+    base_impulse,
     base_work,
     load_work,
     contact_loss,

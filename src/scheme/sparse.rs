@@ -231,8 +231,8 @@ impl LinearBackend for SparseBackend {
     fn damping_quadratic(&self, x: &[f64], y: &[f64]) -> f64 {
         let free = &*self.free;
         let difference: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
-        free.damping.mass_proportional * quadratic(&free.mass, &difference)
-            + free.damping.stiffness_proportional * quadratic(&free.stiffness, &difference)
+        free.damping.alpha * quadratic(&free.mass, &difference)
+            + free.damping.beta * quadratic(&free.stiffness, &difference)
     }
 
     fn output_values(&self, field: &[f64]) -> [f64; 3] {

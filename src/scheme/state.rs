@@ -32,6 +32,9 @@ pub struct State {
     pub forces: Vec<f64>,
     /// −G of the last step (N): the force on the base, see [`Outputs`](super::Outputs).
     pub base_force: f64,
+    /// J_n, the impulse of the force on the base since t_0 (N·s), see
+    /// [`Outputs::base_impulse`](super::Outputs::base_impulse).
+    pub base_impulse: f64,
     /// Energy flows summed since t_1 (J).
     pub flows: EnergyFlows,
 }
@@ -81,6 +84,7 @@ impl State {
         finite("current", &self.current)?;
         finite("forces", &self.forces)?;
         finite("base_force", &[self.base_force])?;
+        finite("base_impulse", &[self.base_impulse])?;
         if !self.flows.is_finite() {
             let flows = format!("{:?}", self.flows);
             return Err(Error::invalid_state("flows", flows, "must be finite"));
@@ -132,7 +136,8 @@ mod tests {
     use crate::scene::Scene;
     use crate::scheme::Stepper;
 
-    /// A payload without the force on the base or the energy flows is refused by name.
+    /// A payload without the force on the base, its impulse or the energy flows is refused by
+    /// name.
     #[test]
     fn every_field_is_required() {
         let mut scene = Scene::default();
@@ -143,7 +148,7 @@ mod tests {
             serde_json::from_value::<super::State>(full.clone()).unwrap(),
             state
         );
-        for field in ["base_force", "flows"] {
+        for field in ["base_force", "base_impulse", "flows"] {
             let mut partial = full.clone();
             partial.as_object_mut().unwrap().remove(field);
             let err = serde_json::from_value::<super::State>(partial).unwrap_err();

@@ -149,6 +149,8 @@ pub struct Stepper {
     mass_weighted_sums: [f64; 2],
     /// −G of the last step (N).
     base_force: f64,
+    /// J_n = Σ_{j<n} (−G_j) Δt, the impulse of the force on the base since t_0 (N·s).
+    base_impulse: f64,
     /// Energy flows summed since t_1.
     flows: EnergyFlows,
     // Workspaces for the hot path.
@@ -190,7 +192,7 @@ impl Stepper {
         check_set_up(scene)?;
         check_base(scene, 0.0, initial_base)?;
         let free = Arc::new(FreeSystem::new(scene, plate));
-        let linear = auto::resolve(scene.solver.linear, plate.free.len());
+        let linear = auto::resolve(scene, plate.free.len());
         let preload = static_preload(scene, &free, initial_base)?;
         let backend = auto::build(linear, scene, &free)?;
         let mut field = vec![0.0; backend.dimension()];
@@ -207,6 +209,7 @@ impl Stepper {
             active_count: preload.states.iter().filter(|s| s.is_active()).count(),
             mass_weighted_sums: [sums.translation; 2],
             base_force,
+            base_impulse: 0.0,
             flows: EnergyFlows::default(),
             magnitude_scale: backend.magnitude_scale(scene.solver.time_step),
             backend,
@@ -312,6 +315,18 @@ impl Stepper {
             (&self.levels.current, self.base[1]),
         ]
         .map(|(field, z)| self.backend.output_values(field).map(|w| z + w))
+    }
+
+    /// −G of the last step (N): [`Outputs::base_force`], read in O(1).
+    pub fn base_force(&self) -> f64 {
+        self.base_force
+    }
+
+    /// J_n = Σ_{j<n} (−G_j) Δt (N·s): the impulse of the force the plate exerts on its base over
+    /// the internal steps since t_0, the rectangle rule on the forces of [`Outputs::base_force`]
+    /// (the start step's included); [`Outputs::base_impulse`], read in O(1).
+    pub fn base_impulse(&self) -> f64 {
+        self.base_impulse
     }
 
     /// Contact forces f_i = μ_i/Δt² at the constrained vertices after the last step (N), with μ
@@ -613,12 +628,13 @@ impl Stepper {
             }
         }
         let base_force = -self.base_supply(base_next, sums.translation, contact_force);
+        let base_impulse = self.base_impulse + base_force * dt;
         let flows = if start {
             EnergyFlows::default()
         } else {
             self.step_flows(base_next, -base_force, multipliers.as_deref())
         };
-        if !(base_force.is_finite() && flows.is_finite()) {
+        if !(base_force.is_finite() && base_impulse.is_finite() && flows.is_finite()) {
             return Err(self.overflow(
                 "the force on the base or an energy flow",
                 t_next,
@@ -649,6 +665,7 @@ impl Stepper {
         self.active_count = active;
         self.mass_weighted_sums = [self.mass_weighted_sums[1], sums.translation];
         self.base_force = base_force;
+        self.base_impulse = base_impulse;
         self.flows = self.flows.plus(&flows);
         self.base = [z_curr, base_next];
         self.pressure = [self.pressure[1], p_next];
@@ -910,6 +927,7 @@ impl Stepper {
             active_nodes,
             contact_force,
             base_force: self.base_force,
+            base_impulse: self.base_impulse,
             base_work: self.flows.base_work,
             load_work: self.flows.load_work,
             contact_loss: self.flows.contact_loss,
@@ -946,6 +964,7 @@ impl Stepper {
             active_set: self.states.iter().map(|s| state_code(*s)).collect(),
             forces: self.forces.clone(),
             base_force: self.base_force,
+            base_impulse: self.base_impulse,
             flows: self.flows,
         }
     }
@@ -1047,6 +1066,7 @@ impl Stepper {
         ];
         self.active_count = states.iter().filter(|s| s.is_active()).count();
         self.base_force = state.base_force;
+        self.base_impulse = state.base_impulse;
         self.flows = state.flows;
         let qp = self.scene.solver.qp;
         self.scene = state.scene.clone();

@@ -65,7 +65,7 @@ pub fn interpolate(previous: &Outputs, next: &Outputs, theta: f64) -> Outputs {
 }
 
 /// a + θ(b − a): the value θ of the way from a to b.
-fn mix(a: f64, b: f64, theta: f64) -> f64 {
+pub(crate) fn mix(a: f64, b: f64, theta: f64) -> f64 {
     a + theta * (b - a)
 }
 
@@ -165,6 +165,7 @@ mod tests {
             active_nodes: active,
             contact_force: 100.0 * x,
             base_force: -10.0 * x,
+            base_impulse: 9.0 * x,
             base_work: 5.0 * x,
             load_work: 6.0 * x,
             contact_loss: 7.0 * x,

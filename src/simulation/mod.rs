@@ -94,6 +94,18 @@ pub struct SimulationState {
     /// The contact of the internal step computed ahead of the communication point, not yet
     /// reported (empty when the communication point is on the grid).
     pub contact_ahead: ContactSummary,
+    /// Where the last communication step started, for `base.mean_force` (none before the first).
+    pub step_start: Option<StepStart>,
+}
+
+/// The communication point where the last communication step started: its time and the impulse
+/// of the force on the base there, J(t_k) ([`Simulation::base_mean_force`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepStart {
+    /// t_k − t_start (s).
+    pub elapsed: f64,
+    /// J(t_k) (N·s).
+    pub impulse: f64,
 }
 
 /// How far past an obstacle a vertex may lie, as a fraction of the gap ([`bound_tolerance`]),
@@ -133,6 +145,7 @@ pub struct Simulation {
     point: CommunicationPoint,
     contact: ContactSummary,
     contact_ahead: ContactSummary,
+    step_start: Option<StepStart>,
     /// The stepper at n = 0 and the external base it was built for, for [`Simulation::restart`].
     initial: (State, f64),
     /// The outputs at the last computed grid point t_N.
@@ -174,6 +187,7 @@ impl Simulation {
             point: CommunicationPoint::OnGrid,
             contact: ContactSummary::default(),
             contact_ahead: ContactSummary::default(),
+            step_start: None,
             grid_outputs: OnceCell::new(),
             interpolated: OnceCell::new(),
             field: OnceCell::new(),
@@ -218,6 +232,7 @@ impl Simulation {
         self.point = CommunicationPoint::OnGrid;
         self.contact = ContactSummary::default();
         self.contact_ahead = ContactSummary::default();
+        self.step_start = None;
         self.invalidate_outputs();
         Ok(SetUp::Reused)
     }
@@ -264,13 +279,47 @@ impl Simulation {
     pub fn outputs(&self) -> &Outputs {
         match &self.point {
             CommunicationPoint::OnGrid => self.grid_outputs(),
-            CommunicationPoint::Between { elapsed, previous } => {
-                self.interpolated.get_or_init(|| {
-                    let n = self.stepper.step_index();
-                    let theta = (elapsed - self.grid.elapsed(n - 1)) / self.grid.step;
-                    interpolate(previous, self.grid_outputs(), theta)
-                })
-            }
+            CommunicationPoint::Between { elapsed, previous } => self
+                .interpolated
+                .get_or_init(|| interpolate(previous, self.grid_outputs(), self.theta(*elapsed))),
+        }
+    }
+
+    /// θ = (t − t_{N−1})/Δt for a communication point `elapsed` (t − t_start) between t_{N−1}
+    /// and t_N.
+    fn theta(&self, elapsed: f64) -> f64 {
+        let n = self.stepper.step_index();
+        (elapsed - self.grid.elapsed(n - 1)) / self.grid.step
+    }
+
+    /// J(t), the impulse of the force on the base since t_start at the communication time (N·s):
+    /// [`Outputs::base_impulse`], interpolated between grid points as every continuous output
+    /// ([`interpolation`]), bit for bit, in O(1).
+    pub fn base_impulse(&self) -> f64 {
+        match &self.point {
+            CommunicationPoint::OnGrid => self.stepper.base_impulse(),
+            CommunicationPoint::Between { elapsed, previous } => interpolation::mix(
+                previous.base_impulse,
+                self.stepper.base_impulse(),
+                self.theta(*elapsed),
+            ),
+        }
+    }
+
+    /// `base.mean_force`: the mean over the last communication step [t_k, t_{k+1}] of the force
+    /// the plate exerts on its base (N, positive upward), its impulse over the step divided by the
+    /// step, (J(t_{k+1}) − J(t_k))/(t_{k+1} − t_k), with J the rectangle rule on the forces of
+    /// `base.force` (those of the internal steps that reach (t_k, t_{k+1}], interpolated as the
+    /// work between grid points). Before the first step, the static force at t_start, as
+    /// `base.force`. With the base work W: over a communication step whose internal steps see a
+    /// base moving at one velocity (z_{n+1} − z_{n−1} = 2sΔt for every internal step n of it),
+    /// ΔW = −s·ΔJ = −`base.mean_force`·Δz exactly; otherwise the remainder is
+    /// ½·base.force_{N0}·(z_{N0+1} − 2z_{N0} + z_{N0−1}) per change of base velocity at a grid
+    /// point N0 (docs/fmu.md, "Coupling both ways").
+    pub fn base_mean_force(&self) -> f64 {
+        match self.step_start {
+            None => self.stepper.base_force(),
+            Some(start) => (self.base_impulse() - start.impulse) / (self.elapsed() - start.elapsed),
         }
     }
 
@@ -330,8 +379,30 @@ impl Simulation {
     /// that grid point was computed ahead by the previous step; the communication time is then
     /// that grid point and [`CommunicationStep::stopped_at_impact`] is set. Without it, or without
     /// such an impact, the step is the same, bit for bit. On an error the steps before it stay
-    /// taken and the communication time is the last grid point reached.
+    /// taken and the communication time is the last grid point reached; `base.mean_force` is then
+    /// the mean up to that point, or stays the last step's when no time passed.
     pub fn advance(
+        &mut self,
+        end: &StepEnd,
+        sample: &InputSample,
+        stop_at_impact: bool,
+        observer: &mut dyn FnMut(&InternalStep),
+    ) -> Result<CommunicationStep, Error> {
+        let start = StepStart {
+            elapsed: self.elapsed(),
+            impulse: self.base_impulse(),
+        };
+        let last = self.step_start.replace(start);
+        let result = self.advance_from(end, sample, stop_at_impact, observer);
+        if self.elapsed() == start.elapsed {
+            // A step that failed before its first grid point: no step to average over.
+            self.step_start = last;
+        }
+        result
+    }
+
+    /// [`Simulation::advance`] once the start of the step is recorded.
+    fn advance_from(
         &mut self,
         end: &StepEnd,
         sample: &InputSample,
@@ -454,6 +525,7 @@ impl Simulation {
             point: self.point.clone(),
             contact: self.contact,
             contact_ahead: self.contact_ahead,
+            step_start: self.step_start,
         }
     }
 
@@ -486,6 +558,7 @@ impl Simulation {
                     .contact_ahead
                     .check("contact of the step computed ahead", pending)
             })
+            .and_then(|()| check_step_start(state.step_start, state.point.elapsed(&grid, n)))
             .map_err(|e| invalid(format!("is inconsistent: {e}")))?;
         self.stepper.restore(&state.stepper)?;
         self.grid = grid;
@@ -493,9 +566,30 @@ impl Simulation {
         self.point = state.point.clone();
         self.contact = state.contact;
         self.contact_ahead = state.contact_ahead;
+        self.step_start = state.step_start;
         self.invalidate_outputs();
         Ok(())
     }
+}
+
+/// Checks the start of the last communication step read from an untrusted source, for a
+/// communication point `elapsed` (t − t_start, s): finite, and strictly before that point, at
+/// or after the start.
+fn check_step_start(start: Option<StepStart>, elapsed: f64) -> Result<(), String> {
+    let Some(s) = start else { return Ok(()) };
+    if !(s.elapsed.is_finite() && s.impulse.is_finite()) {
+        return Err(format!(
+            "the last communication step's start ({} s, impulse {} N s) is not finite",
+            s.elapsed, s.impulse
+        ));
+    }
+    if !(0.0 <= s.elapsed && s.elapsed < elapsed) {
+        return Err(format!(
+            "the last communication step started {} s after the start, outside [0, {elapsed}) s",
+            s.elapsed
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

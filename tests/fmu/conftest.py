@@ -81,6 +81,23 @@ def scene_start_values(name):
     return values, scene["stop_time"]
 
 
+# fmpy's native logger proxy (it formats the variadic FMI 2.0 message) forwards every proxied
+# callback, fmpy's own default callbacks included, to ONE Python logger: the last one installed. So
+# the tests install a single logger that lives for the whole session and dispatches each message
+# by the instance's componentEnvironment to its Plate's list: a freed Plate leaves no dangling
+# logger behind for an instance made with fmpy's defaults (examples/shaker_coupling.py) to call.
+_MESSAGES = {}
+
+
+def _dispatch(env, _instance, status, category, message):
+    messages = _MESSAGES.get(env)
+    if messages is not None:
+        messages.append((status, category.decode(), message.decode()))
+
+
+_LOGGER = fmi2CallbackLoggerTYPE(_dispatch)
+
+
 class Plate:
     """One FMU instance driven through fmpy's low-level FMU2Slave, collecting logged messages."""
 
@@ -88,14 +105,11 @@ class Plate:
         md = model_description
         self.variables = {v.name: v for v in md.modelVariables}
         self.messages = []
-
-        def log(_env, _instance, status, category, message):
-            self.messages.append((status, category.decode(), message.decode()))
-
-        # Keep the ctypes callbacks alive as long as the instance.
-        self._logger = fmi2CallbackLoggerTYPE(log)
+        key = len(_MESSAGES) + 1
+        _MESSAGES[key] = self.messages
         self.callbacks = fmi2CallbackFunctions()
-        self.callbacks.logger = self._logger
+        self.callbacks.componentEnvironment = key
+        self.callbacks.logger = _LOGGER
         self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         addLoggerProxy(byref(self.callbacks))

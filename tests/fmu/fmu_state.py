@@ -8,7 +8,7 @@ import struct
 import zlib
 
 MAGIC = b"PLIMPST\0"
-FORMAT_VERSION = 4
+FORMAT_VERSION = 5
 
 
 def decode(data):

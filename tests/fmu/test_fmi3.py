@@ -22,7 +22,8 @@ FORCED = {"base.amplitude": 0.009, "base.frequency": 35.0}
 
 def test_package_and_description(fmu3_path, model_description3):
     names = set(zipfile.ZipFile(fmu3_path).namelist())
-    assert names == {"modelDescription.xml", "binaries/x86_64-linux/PlateImpact.so"}
+    # The release FMU carries more platforms (tests/fmu/test_platforms.py checks them).
+    assert {"modelDescription.xml", "binaries/x86_64-linux/PlateImpact.so"} <= names
     assert validate_fmu(fmu3_path) == []
     md = model_description3
     cs = md.coSimulation
@@ -62,7 +63,7 @@ REFERENCE_OUTPUTS = [_Output(n) for n in [
     "corner1.displacement", "corner2.displacement", "edge_mid.displacement", "energy.kinetic",
     "energy.elastic", "energy.total", "contact.active_nodes", "contact.force", "base.force",
     "energy.base_work", "energy.load_work", "energy.contact_loss", "energy.damping_loss",
-    "contact.impacts", "contact.impulse", "contact.peak_force"]]
+    "contact.impacts", "contact.impulse", "contact.peak_force", "base.mean_force"]]
 
 
 @pytest.mark.parametrize("scene", SCENE_NAMES)

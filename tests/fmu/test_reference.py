@@ -10,8 +10,8 @@ How sensitive the scenes are, measured before choosing the tolerances (1 s, ever
   moves the displacements by at most 8.8e-10 m, energy.total by 2.2e-7 of its scale, the total
   contact force by 4.2e-7 of its largest value, and not one row's count of vertices in contact.
 * the same shift moves the coupling outputs by at most 4e-8 of their scales (base.force 2.6e-8,
-  contact.peak_force 3.8e-8, contact.impulse 9.3e-9, the works and losses 2.8e-10; forced-35hz) and
-  not one row's impact count.
+  contact.peak_force 3.8e-8, contact.impulse 9.3e-9, base.mean_force 9.3e-9, the works and losses
+  2.8e-10; forced-35hz) and not one row's impact count.
 So within 1 s no scene diverges chaotically: every row is compared, with tolerances about 100
 times the solver-to-solver differences (what a legitimate change of the contact solver's round-off
 can do) and far below what a real regression does (a wrong scheme, element, load or input rule
@@ -31,8 +31,8 @@ DISPLACEMENT_ATOL = 1e-7
 # Of the scene's largest |energy.total| (or of the largest work or loss, if larger): 45 x the
 # solver-to-solver difference (2.2e-7), 250 x the round-off sensitivity of the works and losses.
 ENERGY_RTOL = 1e-5
-# Of each force's largest value (contact.force, base.force, contact.peak_force; contact.impulse
-# likewise): 24 x the solver-to-solver difference of contact.force (4.2e-7), 250 x the round-off
+# Of each force's largest value (contact.force, base.force, contact.peak_force, base.mean_force;
+# contact.impulse likewise): 24 x the solver-to-solver difference of contact.force (4.2e-7), 250 x the round-off
 # sensitivity of the others.
 FORCE_RTOL = 1e-5
 # Rows whose count of vertices in contact (or of impacts) may differ by one: a vertex grazing an

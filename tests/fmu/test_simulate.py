@@ -37,7 +37,7 @@ def rust_reference(scene, stop, every):
     return np.genfromtxt(io.StringIO(out), delimiter=",", names=True)
 
 
-@pytest.mark.parametrize("scene", ["default", "forced", "forced-30hz", "energy"])
+@pytest.mark.parametrize("scene", ["default", "forced", "forced-30hz", "forced-35hz-damped", "energy"])
 def test_simulate_matches_the_library(fmu_path, scene):
     start_values = {} if scene == "default" else scene_start_values(scene)[0]
     result = simulate_fmu(

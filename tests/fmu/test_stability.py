@@ -1,4 +1,4 @@
-"""Stability matrix through the FMU (README, Limits): extreme parameter sets either run with finite
+"""Stability matrix through the FMU (docs/limits.md): extreme parameter sets either run with finite
 outputs, bounds kept to 1e-9 of the gap at the reported points and the energy law, or fail with fmi2Error
 at the earliest call that can know, with a message naming the parameter and its limit."""
 

@@ -121,7 +121,7 @@ fn call(
         SetDebugLogging => inst.set_debug_logging(true, &[]),
         SetupExperiment => inst.setup_experiment(0.0, None),
         EnterInitializationMode => inst.enter_initialization_mode(),
-        ExitInitializationMode => inst.exit_initialization_mode(),
+        ExitInitializationMode => inst.exit_initialization_mode().map(|_| ()),
         Terminate => inst.terminate(),
         Reset => inst.reset(),
         GetReal => inst.get_real(&[vr::PLATE_LENGTH], &mut [0.0]),
@@ -430,8 +430,13 @@ fn crafted_fmu_states_are_refused_naming_the_field() {
         ),
         (
             vec!["model", "simulation", "point"],
-            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
+            r#"{"Between":{"elapsed":0.1,"previous":{"corner1":0.0,"corner2":0.0,"edge_mid":0.0,"energy_kinetic":0.0,"energy_elastic":0.0,"energy_total":0.0,"active_nodes":0,"contact_force":0.0,"base_force":0.0,"base_impulse":0.0,"base_work":0.0,"load_work":0.0,"contact_loss":0.0,"damping_loss":0.0}}}"#,
             "not strictly between",
+        ),
+        (
+            vec!["model", "simulation", "step_start"],
+            r#"{"elapsed":1e9,"impulse":0.0}"#,
+            "last communication step started",
         ),
         (
             vec!["model", "simulation", "contact", "impacts"],
@@ -789,6 +794,214 @@ fn damping_parameters_reach_the_scheme() {
     let corner = real(&mut inst, vr::CORNER1_DISPLACEMENT);
     assert_eq!(corner.to_bits(), library.outputs().corner1.to_bits());
     assert_ne!(corner, undamped.outputs().corner1);
+}
+
+/// The engineers' damping parameters: the `damping.ratio` pair reaches the scheme (the FMU's run
+/// equals the library's, bit for bit), its α and β are readable as calculated parameters and equal
+/// the pair's formula, and setting it with a non-zero α is refused at the end of initialization
+/// naming both parameters.
+#[test]
+fn the_damping_ratio_pair_reaches_the_scheme_and_its_coefficients_are_readable() {
+    use crate::scene::Scene;
+    use crate::simulation::{input::InputSample, Simulation};
+    let (mut inst, _) = small();
+    // The ratio first: the frequencies it needs come later, in the same initialization.
+    inst.set_real(
+        &[
+            vr::DAMPING_RATIO,
+            vr::DAMPING_FREQUENCY_LOW,
+            vr::DAMPING_FREQUENCY_HIGH,
+            vr::BASE_AMPLITUDE,
+        ],
+        &[0.01, 53.83, 5000.0, 0.005],
+    )
+    .unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let (w1, w2) = (
+        2.0 * std::f64::consts::PI * 53.83,
+        2.0 * std::f64::consts::PI * 5000.0,
+    );
+    let (alpha, beta) = (
+        real(&mut inst, vr::DAMPING_ALPHA),
+        real(&mut inst, vr::DAMPING_BETA),
+    );
+    assert!((alpha / (2.0 * 0.01 * w1 * w2 / (w1 + w2)) - 1.0).abs() < 1e-14);
+    assert!((beta / (2.0 * 0.01 / (w1 + w2)) - 1.0).abs() < 1e-14);
+    for w in [w1, w2] {
+        assert!((alpha / (2.0 * w) + beta * w / 2.0 - 0.01).abs() < 1e-15);
+    }
+    let err = inst.set_real(&[vr::DAMPING_ALPHA], &[1.0]).unwrap_err();
+    assert!(err.message.contains("damping.alpha"), "{}", err.message);
+    inst.exit_initialization_mode().unwrap();
+    let mut scene = Scene::default();
+    (scene.mesh.nx, scene.mesh.ny) = (3, 2);
+    scene.base.amplitude = 0.005;
+    scene.damping.mass_proportional = alpha;
+    scene.damping.stiffness_proportional = beta;
+    let mut library = Simulation::new(&scene, 0.0, 0.0).unwrap();
+    for _ in 0..50 {
+        inst.do_step(inst.time(), 1e-3).unwrap();
+        let end = library.step_end(1e-3).unwrap();
+        library
+            .advance(&end, &InputSample::default(), false, &mut |_| {})
+            .unwrap();
+    }
+    let corner = real(&mut inst, vr::CORNER1_DISPLACEMENT);
+    assert_eq!(corner.to_bits(), library.outputs().corner1.to_bits());
+    let loss = real(&mut inst, vr::ENERGY_DAMPING_LOSS);
+    assert!(loss > 0.0 && loss == library.outputs().damping_loss);
+
+    let (mut inst, messages) = small();
+    inst.set_real(
+        &[
+            vr::DAMPING_RATIO,
+            vr::DAMPING_FREQUENCY_LOW,
+            vr::DAMPING_FREQUENCY_HIGH,
+            vr::DAMPING_MASS_PROPORTIONAL,
+        ],
+        &[0.01, 50.0, 5000.0, 3.0],
+    )
+    .unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let err = real_result(&mut inst, vr::DAMPING_BETA).unwrap_err();
+    assert!(
+        err.message.contains("damping.mass_proportional"),
+        "{}",
+        err.message
+    );
+    let err = inst.exit_initialization_mode().unwrap_err();
+    for name in ["damping.ratio", "damping.mass_proportional"] {
+        assert!(err.message.contains(name), "{}", err.message);
+    }
+    let status = inst.finish(Function::ExitInitializationMode, Err(err));
+    assert_eq!(status, Status::Error);
+    assert!(messages
+        .lock()
+        .unwrap()
+        .iter()
+        .any(|(_, c, m)| c == LOG_ERROR
+            && m.contains("damping.ratio")
+            && m.contains("damping.mass_proportional")));
+}
+
+/// The Real variable `vr` of `inst`, or the refusal.
+fn real_result(inst: &mut Plate, vr: u32) -> Result<f64, Failure> {
+    let mut x = [0.0];
+    inst.get_real(&[vr], &mut x).map(|()| x[0])
+}
+
+/// A modal damping ratio reaches the modal backend (the FMU's run equals the library's, bit for
+/// bit, and damps more than without it); it has no effect on α and β.
+#[test]
+fn the_modal_ratio_reaches_the_scheme() {
+    use crate::scene::Scene;
+    use crate::simulation::{input::InputSample, Simulation};
+    let (mut inst, _) = small();
+    inst.set_real(
+        &[vr::DAMPING_MODAL_RATIO, vr::BASE_AMPLITUDE],
+        &[0.02, 0.005],
+    )
+    .unwrap();
+    inst.enter_initialization_mode().unwrap();
+    assert_eq!(real(&mut inst, vr::DAMPING_ALPHA), 0.0);
+    inst.exit_initialization_mode().unwrap();
+    let mut scene = Scene::default();
+    (scene.mesh.nx, scene.mesh.ny) = (3, 2);
+    scene.base.amplitude = 0.005;
+    scene.damping.modal_ratio = 0.02;
+    let mut library = Simulation::new(&scene, 0.0, 0.0).unwrap();
+    for _ in 0..50 {
+        inst.do_step(inst.time(), 1e-3).unwrap();
+        let end = library.step_end(1e-3).unwrap();
+        library
+            .advance(&end, &InputSample::default(), false, &mut |_| {})
+            .unwrap();
+    }
+    let corner = real(&mut inst, vr::CORNER1_DISPLACEMENT);
+    assert_eq!(corner.to_bits(), library.outputs().corner1.to_bits());
+    assert!(real(&mut inst, vr::ENERGY_DAMPING_LOSS) > 0.0);
+}
+
+/// The warning at the end of initialization (docs/accuracy/damping.md): the paper's forced scene
+/// (undamped, obstacles) warns, naming the documentation section, with fmi2Warning; the damped
+/// preset `forced-35hz-damped` (β = 2ζ₁/ω₁, ζ₁ = 1 %, Δt = 1e-4 s) and a plate without obstacles
+/// do not. The warning changes no result: the warned run equals the library's bit for bit.
+#[test]
+fn unconverged_statistics_settings_warn_at_initialization() {
+    use crate::advice::DOCS_SECTION;
+    use crate::scene::Scene;
+    use crate::simulation::{input::InputSample, Simulation};
+    let run = |scene: &Scene| {
+        let (mut inst, messages) = instance();
+        let mut reals = Vec::new();
+        let mut values = Vec::new();
+        for v in FMI2
+            .variables
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+        {
+            match v.kind {
+                Kind::Real => {
+                    reals.push(v.vr);
+                    values.push(scene.get(v.name).unwrap().as_f64().unwrap());
+                }
+                Kind::Integer if v.vr == vr::MESH_ELEMENT => {}
+                Kind::Integer => inst
+                    .set_integer(
+                        &[v.vr],
+                        &[scene.get(v.name).unwrap().as_i64().unwrap() as i32],
+                    )
+                    .unwrap(),
+                Kind::Boolean => inst
+                    .set_boolean(&[v.vr], &[scene.get(v.name).unwrap().as_bool().unwrap()])
+                    .unwrap(),
+                _ => unreachable!(),
+            }
+        }
+        inst.set_real(&reals, &values).unwrap();
+        inst.enter_initialization_mode().unwrap();
+        let status = inst.exit_initialization_mode().unwrap();
+        let status = inst.finish(Function::ExitInitializationMode, Ok(status));
+        let warnings: Vec<String> = messages
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|(s, c, _)| *s == Status::Warning && c == "logStatusWarning")
+            .map(|(_, _, m)| m.clone())
+            .collect();
+        (inst, status, warnings)
+    };
+    let mut forced = Scene::named("forced-35hz").unwrap();
+    (forced.mesh.nx, forced.mesh.ny) = (3, 2);
+    let (mut inst, status, warnings) = run(&forced);
+    assert_eq!(status, Status::Warning);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains(DOCS_SECTION), "{}", warnings[0]);
+    let mut library = Simulation::new(&forced, 0.0, 0.0).unwrap();
+    for _ in 0..100 {
+        assert_eq!(inst.do_step(inst.time(), 1e-3).unwrap(), Status::Ok);
+        let end = library.step_end(1e-3).unwrap();
+        library
+            .advance(&end, &InputSample::default(), false, &mut |_| {})
+            .unwrap();
+    }
+    for (r, expected) in [
+        (vr::CORNER1_DISPLACEMENT, library.outputs().corner1),
+        (vr::ENERGY_TOTAL, library.outputs().energy_total),
+        (vr::ENERGY_CONTACT_LOSS, library.outputs().contact_loss),
+    ] {
+        assert_eq!(real(&mut inst, r).to_bits(), expected.to_bits());
+    }
+    assert!(library.outputs().contact_loss > 0.0, "the run impacts");
+
+    let mut damped = Scene::named("forced-35hz-damped").unwrap();
+    (damped.mesh.nx, damped.mesh.ny) = (3, 2);
+    let (_, status, warnings) = run(&damped);
+    assert_eq!((status, warnings.len()), (Status::Ok, 0), "{warnings:?}");
+    forced.obstacle.lower_enabled = false;
+    forced.obstacle.upper_enabled = false;
+    let (_, status, warnings) = run(&forced);
+    assert_eq!((status, warnings.len()), (Status::Ok, 0), "{warnings:?}");
 }
 
 /// fmpy asks for the size, then for the bytes: the state is encoded once.

@@ -341,7 +341,7 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
 #[no_mangle]
 pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> fmi3Status {
     call(instance, Function::ExitInitializationMode, |inst, _| {
-        done(inst.exit_initialization_mode())
+        inst.exit_initialization_mode()
     })
 }
 

@@ -75,7 +75,7 @@ fn call(
     match function {
         SetDebugLogging => inst.set_debug_logging(true, &[]),
         EnterInitializationMode => inst.begin_initialization(Some((0.0, None))),
-        ExitInitializationMode => inst.exit_initialization_mode(),
+        ExitInitializationMode => inst.exit_initialization_mode().map(|_| ()),
         Terminate => inst.terminate(),
         Reset => inst.reset(),
         GetFloat64 => inst.get_real(&[vr::PLATE_LENGTH], &mut [0.0]),

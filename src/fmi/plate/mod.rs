@@ -15,6 +15,7 @@ mod values;
 
 pub use snapshot::PlateSnapshot;
 
+use crate::advice::StatisticsAdvice;
 use crate::fmi::ffi::panic_text;
 use crate::fmi::logger::{Logger, LOG_WARNING};
 use crate::fmi::model::{Array, Derivative, Model, Phase, StepOptions, StepOutcome, Value};
@@ -219,12 +220,20 @@ fn report_internal_step(log: &mut Logger, step: &InternalStep) {
     }
 }
 
+/// What the last communication step of `sim` reports besides its outputs.
+fn last_step(sim: &Simulation) -> values::LastStep {
+    values::LastStep {
+        contact: *sim.contact(),
+        base_mean_force: sim.base_mean_force(),
+    }
+}
+
 /// Why the outputs of `sim` may not be reported with fmi2OK, if they may not: an output that is
 /// not finite (the simulation overflowed), or a free corner past an obstacle (a contact problem
 /// that was not solved, such as under a pressure of 1e308 Pa).
 fn unsound_outputs(sim: &Simulation) -> Option<String> {
     let (outputs, t) = (sim.outputs(), sim.time());
-    if let Some((name, x)) = first_non_finite(outputs, sim.contact()) {
+    if let Some((name, x)) = first_non_finite(outputs, &last_step(sim)) {
         return Some(format!(
             "the output {name} = {x} at t = {t} s is not finite: the simulation overflowed (a base displacement or load far beyond the plate's scale?)"
         ));
@@ -273,8 +282,15 @@ impl Model for PlateModel {
         Ok(())
     }
 
-    fn exit_initialization(&mut self) -> Result<(), Failure> {
-        self.readable_simulation(Phase::Initialization).map(|_| ())
+    fn exit_initialization(&mut self, log: &mut Logger) -> Result<Status, Failure> {
+        self.readable_simulation(Phase::Initialization)?;
+        Ok(match StatisticsAdvice::of(&self.parameters) {
+            Some(advice) => {
+                log.log(Status::Warning, LOG_WARNING, &advice.message());
+                Status::Warning
+            }
+            None => Status::Ok,
+        })
     }
 
     fn time(&self, phase: Phase) -> f64 {
@@ -288,9 +304,10 @@ impl Model for PlateModel {
         match v.causality {
             Causality::Output => {
                 let sim = self.readable_simulation(phase)?;
-                values::output(sim.outputs(), sim.contact(), v)
+                values::output(sim.outputs(), &last_step(sim), v)
             }
             Causality::Input => Ok(Value::Real(self.input)),
+            Causality::CalculatedParameter => values::calculated(&self.parameters, v),
             _ => values::parameter(&self.parameters, v),
         }
     }

@@ -1,6 +1,6 @@
 //! Variables ↔ the plate's data: parameters are [`Scene`] fields named by their dotted path (the
 //! variable name), read and written through [`Scene::get`] and [`Scene::with`]; outputs are
-//! [`Outputs`] fields and, for the contact over the last communication step, [`ContactSummary`]
+//! [`Outputs`] fields and, for what happened over the last communication step, [`LastStep`]
 //! fields; the one input is the external base displacement.
 
 use crate::element::ElementKind;
@@ -52,6 +52,22 @@ pub fn parameter(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
         ),
         Kind::String | Kind::UInt64 => return Err(internal()),
     })
+}
+
+/// The value of a calculated parameter: the Rayleigh α (`damping.alpha`) or β (`damping.beta`)
+/// in use ([`Damping::rayleigh`](crate::scene::Damping::rayleigh)), refused while the damping
+/// settings are inconsistent (the error names the parameters at fault).
+pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
+    scene.damping.validate()?;
+    let (alpha, beta) = scene.damping.rayleigh();
+    match v.vr {
+        vr::DAMPING_ALPHA => Ok(Value::Real(alpha)),
+        vr::DAMPING_BETA => Ok(Value::Real(beta)),
+        _ => Err(Failure::refused(format!(
+            "{} has no binding (internal error)",
+            v.name
+        ))),
+    }
 }
 
 /// The scene's JSON value for an FMI value of parameter `v`; non-finite reals and unknown element
@@ -114,12 +130,22 @@ pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene
     Ok(updated)
 }
 
-/// How to read a Real output from the outputs at the communication time and the contact over the
-/// last communication step.
-type RealOutput = fn(&Outputs, &ContactSummary) -> f64;
+/// What the last communication step reports besides the outputs at its end.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LastStep {
+    /// The contact over its internal steps.
+    pub contact: ContactSummary,
+    /// The mean of the force on the base over it (N,
+    /// [`Simulation::base_mean_force`](crate::simulation::Simulation::base_mean_force)).
+    pub base_mean_force: f64,
+}
+
+/// How to read a Real output from the outputs at the communication time and what the last
+/// communication step reports.
+type RealOutput = fn(&Outputs, &LastStep) -> f64;
 
 /// Every Real output, by value reference: the one table behind [`output`] and [`first_non_finite`].
-const REAL_OUTPUTS: [(u32, RealOutput); 14] = [
+const REAL_OUTPUTS: [(u32, RealOutput); 15] = [
     (vr::CORNER1_DISPLACEMENT, |o, _| o.corner1),
     (vr::CORNER2_DISPLACEMENT, |o, _| o.corner2),
     (vr::EDGE_MID_DISPLACEMENT, |o, _| o.edge_mid),
@@ -132,15 +158,17 @@ const REAL_OUTPUTS: [(u32, RealOutput); 14] = [
     (vr::ENERGY_LOAD_WORK, |o, _| o.load_work),
     (vr::ENERGY_CONTACT_LOSS, |o, _| o.contact_loss),
     (vr::ENERGY_DAMPING_LOSS, |o, _| o.damping_loss),
-    (vr::CONTACT_IMPULSE, |_, c| c.impulse),
-    (vr::CONTACT_PEAK_FORCE, |_, c| c.peak_force),
+    (vr::CONTACT_IMPULSE, |_, s| s.contact.impulse),
+    (vr::CONTACT_PEAK_FORCE, |_, s| s.contact.peak_force),
+    (vr::BASE_MEAN_FORCE, |_, s| s.base_mean_force),
 ];
 
-/// The value of output `v` (by value reference) in `outputs` and `contact`. Refused: an impact
+/// The value of output `v` (by value reference) in `outputs` and `last`. Refused: an impact
 /// count beyond the Integer range (more than 2³¹ − 1 impacts in one communication step).
-pub fn output(outputs: &Outputs, contact: &ContactSummary, v: &Variable) -> Result<Value, Failure> {
+pub fn output(outputs: &Outputs, last: &LastStep, v: &Variable) -> Result<Value, Failure> {
+    let contact = &last.contact;
     if let Some((_, read)) = REAL_OUTPUTS.iter().find(|(r, _)| *r == v.vr) {
-        return Ok(Value::Real(read(outputs, contact)));
+        return Ok(Value::Real(read(outputs, last)));
     }
     Ok(match v.vr {
         vr::CONTACT_ACTIVE_NODES => Value::Integer(
@@ -182,13 +210,10 @@ pub fn displacement_point(v: &Variable) -> Option<usize> {
     .position(|&r| r == v.vr)
 }
 
-/// The first Real output of `outputs` and `contact` that is not finite, as (variable name, value).
-pub fn first_non_finite(
-    outputs: &Outputs,
-    contact: &ContactSummary,
-) -> Option<(&'static str, f64)> {
+/// The first Real output of `outputs` and `last` that is not finite, as (variable name, value).
+pub fn first_non_finite(outputs: &Outputs, last: &LastStep) -> Option<(&'static str, f64)> {
     REAL_OUTPUTS.iter().find_map(|&(r, read)| {
-        let x = read(outputs, contact);
+        let x = read(outputs, last);
         (!x.is_finite()).then(|| {
             let name = FMI2.variable(r).map_or("?", |v| v.name);
             (name, x)
@@ -235,7 +260,7 @@ mod tests {
             };
             assert_eq!(parameter(&scene, v).unwrap(), expected, "{}", v.name);
         }
-        assert_eq!(parameters, 21, "docs/fmu.md lists 21 parameters");
+        assert_eq!(parameters, 25, "docs/fmu.md lists 25 parameters");
     }
 
     /// FMI 3.0 sizes plate.displacement by its structural parameters: their starts are the vertex
@@ -255,31 +280,36 @@ mod tests {
     #[test]
     fn every_output_is_bound_and_guarded() {
         let mut outputs = Outputs::default();
-        let mut contact = ContactSummary::default();
+        let mut last = LastStep::default();
         for v in FMI2
             .variables
             .iter()
             .filter(|v| v.causality == Causality::Output)
         {
-            output(&outputs, &contact, v).unwrap();
+            output(&outputs, &last, v).unwrap();
         }
         let real_outputs = FMI2
             .variables
             .iter()
             .filter(|v| v.causality == Causality::Output && v.kind == Kind::Real)
             .count();
-        assert_eq!(first_non_finite(&outputs, &contact), None);
-        contact.impulse = f64::NAN;
+        assert_eq!(first_non_finite(&outputs, &last), None);
+        last.base_mean_force = f64::NEG_INFINITY;
+        assert_eq!(
+            first_non_finite(&outputs, &last),
+            Some(("base.mean_force", f64::NEG_INFINITY))
+        );
+        last.contact.impulse = f64::NAN;
         assert!(matches!(
-            first_non_finite(&outputs, &contact),
+            first_non_finite(&outputs, &last),
             Some(("contact.impulse", x)) if x.is_nan()
         ));
         outputs.energy_elastic = f64::INFINITY;
         assert_eq!(
-            first_non_finite(&outputs, &contact),
+            first_non_finite(&outputs, &last),
             Some(("energy.elastic", f64::INFINITY))
         );
-        assert_eq!(real_outputs, 14);
+        assert_eq!(real_outputs, 15);
         for (name, kind) in [
             ("corner1.displacement", Kind::Real),
             ("energy.total", Kind::Real),
@@ -288,12 +318,13 @@ mod tests {
             ("energy.damping_loss", Kind::Real),
             ("contact.impacts", Kind::Integer),
             ("contact.peak_force", Kind::Real),
+            ("base.mean_force", Kind::Real),
         ] {
             assert_eq!(by_name(name).unwrap().kind, kind, "{name}");
         }
-        contact.impacts = 1 << 31;
+        last.contact.impacts = 1 << 31;
         let impacts = by_name("contact.impacts").unwrap();
-        let err = output(&outputs, &contact, impacts).unwrap_err();
+        let err = output(&outputs, &last, impacts).unwrap_err();
         assert!(
             err.message.contains("contact.impacts = 2147483648"),
             "{}",

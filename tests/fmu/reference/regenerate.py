@@ -40,13 +40,14 @@ OUTPUTS = [
     "contact.impacts",
     "contact.impulse",
     "contact.peak_force",
+    "base.mean_force",
 ]
 INTEGERS = ("contact.active_nodes", "contact.impacts")
 # Outputs compared as energies (against the scene's largest |energy.total| or flow) and as forces
 # (against the scene's largest force of the same kind): see tests/fmu/test_reference.py.
 ENERGIES = ["energy.kinetic", "energy.elastic", "energy.total", "energy.base_work", "energy.load_work",
             "energy.contact_loss", "energy.damping_loss"]
-FORCES = ["contact.force", "base.force", "contact.peak_force", "contact.impulse"]
+FORCES = ["contact.force", "base.force", "contact.peak_force", "contact.impulse", "base.mean_force"]
 
 
 def scenes():
