@@ -5,8 +5,8 @@
 //! where it believes the instance is: in Configuration Mode (which it tracks: entered and left
 //! by its own calls, ended by any error) an empty set only; elsewhere the FMU state, whose
 //! serialized payload names the call state, then every variable readable in that state
-//! (outputs from Step Mode on; the displacement field only when its structural sizes match the
-//! mesh).
+//! (outputs and calculated parameters from Step Mode on; the displacement field only when its
+//! structural sizes match the mesh).
 
 use super::{Host, Observation, Op, ERROR, NOT_READ, OK, SLOTS};
 use crate::fmi::fmi3::exports::*;
@@ -335,7 +335,8 @@ impl Host for Fmi3Host {
                     MODES.iter().position(|&m| m == name)
                 });
             // In Initialization Mode the first output read sets the simulation up, and a set-up
-            // that fails is an fmi3Error: outputs are read from Step Mode on.
+            // that fails is an fmi3Error, as is a calculated parameter that the parameters do not
+            // determine yet: those are read from Step Mode on.
             let outputs_readable = mode.is_some_and(|m| m > 1);
             let size = |vr| self.scalar(vr, Kind::Integer);
             let sized = size(vr::MESH_NY).1 + 1
@@ -343,8 +344,12 @@ impl Host for Fmi3Host {
                 && size(vr::MESH_NX).1 + 1 == self.scalar(vr::MESH_VERTEX_COLUMNS, Kind::UInt64).1;
             let mut values = Vec::with_capacity(n);
             for v in FMI3.variables {
-                let output = v.causality == Causality::Output;
-                let value = if output && !outputs_readable {
+                // Outputs and calculated parameters are computed, and may fail to be.
+                let computed = matches!(
+                    v.causality,
+                    Causality::Output | Causality::CalculatedParameter
+                );
+                let value = if computed && !outputs_readable {
                     (NOT_READ, vec![])
                 } else if v.is_array() {
                     if sized {
