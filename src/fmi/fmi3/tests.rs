@@ -395,3 +395,41 @@ fn errors_end_in_terminated_and_an_fmu_state_continues() {
     let err = fmi2.deserialize_state(&bytes).err().unwrap();
     assert!(err.message.contains("invalid payload"), "{}", err.message);
 }
+
+/// An fmi3Error after fmi3Reset ends in Terminated without bringing back the run before the
+/// reset (the model keeps its simulation to reuse the assembled plate): the time is the new
+/// start time, the outputs are not available, and the FMU state taken there can be set again.
+/// Found by the random FMI 3.0 call sequences (`tests/fmi_c_api.rs`).
+#[test]
+fn an_error_after_a_reset_does_not_bring_back_the_run_before_it() {
+    let mut inst = stepping(0.005);
+    for _ in 0..3 {
+        inst.do_step(inst.time(), 1e-3, false).unwrap();
+    }
+    inst.reset().unwrap();
+    inst.set_real(&[vr::PLATE_LENGTH], &[0.3]).unwrap();
+    let refused = inst.set_real(&[vr::TIME], &[0.0]);
+    let status = inst.finish(Function::SetFloat64, refused.map(|()| Status::Ok));
+    assert_eq!((status, inst.mode()), (Status::Error, Mode::Terminated));
+    assert_eq!(real(&mut inst, vr::TIME), 0.0);
+    let output = inst.get_real(&[vr::CORNER1_DISPLACEMENT], &mut [0.0]);
+    assert!(output.is_err(), "an output of the run before the reset");
+    let state = inst.get_state().unwrap();
+    inst.set_state(&state).unwrap();
+}
+
+/// An fmi3Error before initialization ends in Terminated with parameters that are each valid
+/// but not yet together (here a base amplitude beyond the gap, which initialization would
+/// refuse): the FMU state taken there can be set again. Found by the random FMI 3.0 call
+/// sequences (`tests/fmi_c_api.rs`).
+#[test]
+fn an_fmu_state_taken_after_an_error_before_initialization_can_be_set() {
+    let mut inst = small();
+    inst.set_real(&[vr::BASE_AMPLITUDE], &[0.02]).unwrap();
+    let refused = inst.set_real(&[vr::CORNER1_DISPLACEMENT], &[0.0]);
+    let status = inst.finish(Function::SetFloat64, refused.map(|()| Status::Ok));
+    assert_eq!((status, inst.mode()), (Status::Error, Mode::Terminated));
+    let state = inst.get_state().unwrap();
+    inst.set_state(&state).unwrap();
+    assert_eq!(real(&mut inst, vr::BASE_AMPLITUDE), 0.02);
+}

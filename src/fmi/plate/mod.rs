@@ -153,13 +153,23 @@ impl PlateModel {
         self.simulation.as_mut().ok_or_else(never_set_up)
     }
 
+    /// The simulation of this run in `phase`: one set up for the current parameters, input and
+    /// start time, in a phase where it runs (Initialization sets it up first). The model keeps
+    /// the simulation of an earlier run (after a reset, or parameters set before
+    /// initialization) only to reuse its assembled plate: that one is no part of the run, even
+    /// where an error ends the instance (FMI 3.0 ends every error in Terminated).
+    fn run_simulation(&self, phase: Phase) -> Option<&Simulation> {
+        let running = phase.running() || phase == Phase::Initialization;
+        self.simulation.as_ref().filter(|_| running && self.current)
+    }
+
     /// The simulation whose outputs may be read in `phase` (set up first in Initialization mode),
     /// refused when they are unsound.
     fn readable_simulation(&mut self, phase: Phase) -> Result<&Simulation, Failure> {
         if phase == Phase::Initialization {
             self.ensure_simulation()?;
         }
-        let sim = self.simulation.as_ref().ok_or_else(never_set_up)?;
+        let sim = self.run_simulation(phase).ok_or_else(never_set_up)?;
         match self.verdict.get_or_init(|| unsound_outputs(sim)) {
             Some(message) => Err(Failure::refused(message.clone())),
             None => Ok(sim),
@@ -167,9 +177,11 @@ impl PlateModel {
     }
 }
 
-/// The refusal of a call that needs a simulation before one was set up.
+/// The refusal of a call that needs the simulation of this run before one was set up.
 fn never_set_up() -> Failure {
-    Failure::refused("the simulation is not available: it was never set up")
+    Failure::refused(
+        "the simulation is not available: it was not set up for this run (initialization sets it up)",
+    )
 }
 
 /// The shape of the displacement field of `sim`: (ny + 1) rows along y × (nx + 1) columns along
@@ -282,7 +294,7 @@ impl Model for PlateModel {
     }
 
     fn time(&self, phase: Phase) -> f64 {
-        match &self.simulation {
+        match self.run_simulation(phase) {
             Some(sim) if phase.running() => sim.time(),
             _ => self.start_time,
         }
@@ -494,10 +506,10 @@ impl Model for PlateModel {
             stop_time: self.stop_time,
             input: self.input,
             input_derivatives: self.input_derivatives,
-            simulation: match &self.simulation {
-                Some(sim) if phase.running() => Some(sim.state()),
-                _ => None,
-            },
+            simulation: self
+                .run_simulation(phase)
+                .filter(|_| phase.running())
+                .map(Simulation::state),
         }
     }
 

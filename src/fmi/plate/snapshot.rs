@@ -35,11 +35,11 @@ fn refused(message: String) -> Failure {
 impl PlateSnapshot {
     /// Checks every field a host could have crafted, for a snapshot taken in `phase`: each
     /// parameter as fmi2SetXxx would (by name, with its limit), no scene field that is not an FMU
-    /// variable, the parameters together once the simulation runs, finite times with a grid that
-    /// resolves the internal steps, finite input and derivatives, a simulation exactly in the
-    /// phases that have one, for the same parameters and start time, its communication point
-    /// within its grid interval and the stop time (the grid may run one step beyond it), and its
-    /// input history. The simulation's fields themselves (dimensions, finiteness, contact
+    /// variable, the parameters together where a simulation runs on them, finite times with a
+    /// grid that resolves the internal steps, finite input and derivatives, a simulation exactly
+    /// in the phases that have one, for the same parameters and start time, its communication
+    /// point within its grid interval and the stop time (the grid may run one step beyond it),
+    /// and its input history. The simulation's fields themselves (dimensions, finiteness, contact
     /// codes, vertices inside the obstacles) are checked when it is restored.
     pub fn validate(&self, phase: Phase) -> Result<(), Failure> {
         let mut rebuilt = Scene::default();
@@ -57,7 +57,9 @@ impl PlateSnapshot {
                     .into(),
             ));
         }
-        if phase.running() {
+        // Together only where a simulation runs on them: an error before initialization ends FMI
+        // 3.0 in Terminated with parameters not yet checked together (initialization does).
+        if self.simulation.is_some() {
             self.parameters
                 .validate()
                 .map_err(|e| refused(e.to_string()))?;
