@@ -33,7 +33,7 @@
 //!   factor and a copy of A_ff).
 //!
 //! The estimate is the larger of the assembly peak and what the set-up holds afterwards, plus the
-//! contact part. It is checked against the measured peak resident memory (`examples/bench.rs
+//! contact part. It is checked against the measured peak resident memory (`benches/solver.rs
 //! -- --scale`) for both elements from 10 × 7 to 100 × 50 in the tests.
 
 use crate::contact::delassus::DEFAULT_DELASSUS_BUDGET;

@@ -92,7 +92,7 @@ impl StudyDir {
         std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
     }
 
-    /// Runs `examples/<script> DIR [--quick]` with the Python of `scripts/python-env`.
+    /// Runs `examples/studies/<script> DIR [--quick]` with the Python of `scripts/python-env`.
     pub fn plot(&self, script: &str) -> Result<(), String> {
         let root = repository();
         let env = std::process::Command::new(root.join("scripts/python-env"))
@@ -107,7 +107,7 @@ impl StudyDir {
         let python = String::from_utf8_lossy(&env.stdout).trim().to_string();
         let mut command = std::process::Command::new(python);
         command
-            .arg(root.join("examples").join(script))
+            .arg(root.join("examples/studies").join(script))
             .arg(&self.path);
         if self.quick {
             command.arg("--quick");

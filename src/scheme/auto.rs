@@ -12,7 +12,7 @@ use std::sync::Arc;
 /// Largest number of free dofs for which `auto` picks the dense modal backend. Its set-up is a
 /// dense O(n³) eigen-decomposition with O(n²) memory, the sparse backend's a sparse Cholesky
 /// factorisation, but a modal step costs 20–60 µs where a sparse one costs 0.4–0.6 ms at these
-/// sizes (`cargo run --release --example bench -- --crossover`, `forced-35hz`, a 2-core development
+/// sizes (`cargo bench --bench solver -- --crossover`, `forced-35hz`, a 2-core development
 /// machine): at 1951 free dofs (Argyris 20 × 10) modal sets up in 3.0 s against 0.01 s and wins
 /// after 6 000 steps, at 2773 (24 × 12) in 8.9 s and wins after 15 000; FVS 36 × 18 (2052) and
 /// 40 × 20 (2520) break even after 6 400 and 11 000 steps. Up to this limit the modal backend

@@ -1,4 +1,4 @@
-"""The frequency sweep (examples/frequency_sweep.py): Dask gives the serial answer bit for bit, the
+"""The frequency sweep (examples/studies/frequency_sweep.py): Dask gives the serial answer bit for bit, the
 undamped linear plate resonates at the library's first natural frequency, and the continuation
 sweep drives a continuous base and finds the linear plate's unique steady state up and down."""
 
@@ -11,7 +11,7 @@ import pytest
 from conftest import ROOT
 
 spec = importlib.util.spec_from_file_location("frequency_sweep",
-                                              ROOT / "examples" / "frequency_sweep.py")
+                                              ROOT / "examples" / "studies" / "frequency_sweep.py")
 frequency_sweep = importlib.util.module_from_spec(spec)
 sys.modules[spec.name] = frequency_sweep  # the name its tasks are pickled under
 spec.loader.exec_module(frequency_sweep)

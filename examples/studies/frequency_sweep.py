@@ -7,10 +7,10 @@ sweeps the frequencies up and then back down, carrying the plate's state from ea
 the next, so that coexisting responses (jumps, hysteresis) show as two branches. Both write a CSV
 and a plot with the library's natural frequencies marked.
 
-    python examples/frequency_sweep.py [--frequencies 5:120:1] [--workers N | --scheduler ADDR | --serial]
+    python examples/studies/frequency_sweep.py [--frequencies 5:120:1] [--workers N | --scheduler ADDR | --serial]
                                        [--set name=value ...] [--param name=v1,v2,... ...]
                                        [--zeta1 Z] [--stop-time 1.0] [--out out/sweep]
-    python examples/frequency_sweep.py --continuation [--frequencies 30:90:1] [--zeta1 0.01]
+    python examples/studies/frequency_sweep.py --continuation [--frequencies 30:90:1] [--zeta1 0.01]
                                        [--settle 1.5] [--measure 1.0] [...]
 
 Runs from rest (columns of sweep.csv; times are communication points, one per internal step Δt):
@@ -54,7 +54,7 @@ import zipfile
 
 import numpy as np
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 DEFAULT_FMU = ROOT / "target" / "fmu" / "PlateImpact.fmu"
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.contact_loss",
            "contact.active_nodes", "contact.impacts"]

@@ -1,7 +1,7 @@
 """What reading the outputs costs against a 1 ms communication step, through fmpy.
 
     cargo run --release --bin package-fmu
-    .venv/bin/python examples/fmu_read_cost.py [--steps 2000] [--fmu target/fmu/PlateImpact.fmu]
+    .venv/bin/python benches/fmu_read_cost.py [--steps 2000] [--fmu target/fmu/PlateImpact.fmu]
 
 Runs the paper's forced scene at 35 Hz (10 x 7 Argyris mesh, internal step 0.1 ms, ten internal
 steps per doStep) and times, after every doStep: the doStep itself, reading the Real outputs one

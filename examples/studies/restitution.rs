@@ -1,5 +1,5 @@
 //! What Newton's impact law does in a scene: the measurements behind docs/restitution/ (run by
-//! `examples/restitution.py`), and the per-step cost of the law.
+//! `examples/studies/restitution.py`), and the per-step cost of the law.
 //!
 //! `cargo run --release --example restitution -- <scene> [key=value ...] [--csv FILE] [--every N]`
 //!
@@ -25,6 +25,7 @@
 //! medians), split into steps proven contact-free by the screening, steps checked free in full,
 //! and steps needing a QP; it prints one line per e.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::{exit_code, positive_integer, set_override};

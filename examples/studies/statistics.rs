@@ -6,7 +6,7 @@
 //! `cargo run --release --example statistics [-- --quick | --reduced] [--out DIR]`
 //!
 //! A part of the study, to share it between processes (`--out` to separate directories; the
-//! CSVs are then concatenated and `examples/statistics_plots.py DIR` run on the result): `--forcings
+//! CSVs are then concatenated and `examples/studies/statistics_plots.py DIR` run on the result): `--forcings
 //! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
 //! ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the `energy` scene, the
 //! forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs those meshes only and
@@ -48,12 +48,13 @@
 //! Output (default `docs/accuracy`, with `--quick` a temporary directory): `statistics.csv` (one
 //! row per run and quantity: quantity, scene, element, nx, ny, dt, omega_max_dt, value, spread,
 //! wall_s), `meshes.csv` (ω₁ and ω_max per mesh), `replica_check.csv`, `statistics_meta.csv`;
-//! then `examples/statistics_plots.py` writes the work-precision plots and `statistics.md`.
+//! then `examples/studies/statistics_plots.py` writes the work-precision plots and `statistics.md`.
 //! `--quick` runs a small subset (about 10 s) in a temporary directory and exits nonzero unless
 //! the pipeline completes and, on the damped 35 Hz scene on the Argyris 2 × 1 mesh, the statistics
 //! have converged once ω_max·Δt < 1 and the mean |base force| has not at the paper's Δt (see
 //! [`quick_check`]).
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::{element_name, exit_code, StudyDir};
@@ -780,7 +781,7 @@ fn study() -> Result<(), String> {
     if partial {
         eprintln!(
             "partial study done in {total_s:.1} s: concatenate its CSVs with the other parts', \
-             then run examples/statistics_plots.py on them"
+             then run examples/studies/statistics_plots.py on them"
         );
         return Ok(());
     }

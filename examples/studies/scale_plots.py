@@ -1,5 +1,5 @@
 """Cost against mesh size: the table, the fitted growth exponents and the log-log plot of
-docs/scale/README.md, from the CSV that `cargo run --release --example bench -- --scale` prints.
+docs/scale/README.md, from the CSV that `cargo bench --bench solver -- --scale` prints.
 
 The bench runs `forced-35hz` (dt = 1e-4 s, 0.05 s: 500 steps, about 70 of them with contact) on
 meshes from 10 x 7 to 100 x 50 for both elements, each in a process of its own, with the backend
@@ -7,8 +7,8 @@ that `solver.linear = auto` picks. On a shared machine timings only get slower, 
 are combined by taking, per mesh, the smallest of each timing (and the median of each memory
 peak). Usage:
 
-    cargo run --release --example bench -- --scale > run1.csv   (repeat: run2.csv, ...)
-    .venv/bin/python docs/scale/plot.py run1.csv run2.csv ... [--out docs/scale]
+    cargo bench --bench solver -- --scale > run1.csv   (repeat: run2.csv, ...)
+    .venv/bin/python examples/studies/scale_plots.py run1.csv run2.csv ... [--out docs/scale]
 
 writes docs/scale/scale.csv (the combined runs) and docs/scale/scale.png, and prints the table and
 the exponents of the fits  cost = c * n^p  over the meshes each backend runs (n = free dofs).
@@ -70,8 +70,8 @@ def fit(points):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("runs", nargs="+", help="CSV output of `bench -- --scale`")
-    parser.add_argument("--out", default=str(pathlib.Path(__file__).resolve().parent))
+    parser.add_argument("runs", nargs="+", help="CSV output of `cargo bench --bench solver -- --scale`")
+    parser.add_argument("--out", default=str(pathlib.Path(__file__).resolve().parents[2] / "docs" / "scale"))
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     rows = sorted((combine(r) for r in read_runs(args.runs).values()),

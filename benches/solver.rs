@@ -1,6 +1,6 @@
 //! Benchmarks (timings and ratios measured in one run; never asserted in tests).
 //!
-//! `cargo run --release --example bench [-- --quick | --scale | --crossover | --anatomy | --case NAME [--csv]]`
+//! `cargo bench --bench solver [-- --quick | --scale | --crossover | --anatomy | --case NAME [--csv]]`
 //!
 //! 1. Assembly of M, K and the load for the paper's 140-element meshes and for ~10k elements.
 //! 2. Stepping the `forced` scene at 35 Hz, Δt = 1e-4 s, 1 s (10⁴ steps) for both elements with
@@ -15,7 +15,7 @@
 //! `--verify NAME` runs a case beside the clarabel reference (`solver.qp = clarabel`) until ten
 //! steps with a QP have been compared, and prints the largest difference of the constrained
 //! displacements and the largest bound violation. `--scale` runs the size sweep instead (both elements, 10 × 7 to 100 × 50, the backend `auto`
-//! picks), as the CSV that `docs/scale/plot.py` reads; `--crossover` runs both backends on the
+//! picks), as the CSV that `examples/studies/scale_plots.py` reads; `--crossover` runs both backends on the
 //! meshes around `MODAL_AUTO_LIMIT`, where the choice between them is made. `--anatomy` times the
 //! parts of a sparse step (factor size with each ordering, one solve, one product, and the memory
 //! bandwidth that bounds a solve from below).

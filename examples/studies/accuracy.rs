@@ -8,7 +8,7 @@
 //! measured with `Instant` around set-up and stepping, are not disturbed by each other). The output
 //! directory (default `docs/accuracy`, with `--quick` a fresh temporary directory) receives
 //! `runs.csv` (one row per run), `frequencies.csv`, `table1.csv` and `traces.csv` (the reference
-//! corner trajectories); then `examples/accuracy_plots.py`, run with the Python of
+//! corner trajectories); then `examples/studies/accuracy_plots.py`, run with the Python of
 //! `scripts/python-env`, writes the PNG plots and `README.md` there.
 //!
 //! Errors. The corner displacement u(Lx, 0, t) of each run is put on a common grid (every 1e-4 s,
@@ -21,6 +21,7 @@
 //! order in Δt of the contact-free case is within 0.2 of 2 and the whole pipeline (CSV, plots,
 //! README) completes.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::{element_name, exit_code, StudyDir};
