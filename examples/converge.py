@@ -89,6 +89,8 @@ MESH_FACTOR = 1.5
 # any budget on one machine; they only bound the loop.
 MAX_DT_LEVELS = 12
 MAX_MESH_LEVELS = 5
+# With --mesh: mesh ladder, Δt ladder on the new mesh, … at most this many times each.
+MAX_ROUNDS = 4
 
 
 # ----------------------------------------------------------------------------------------------
@@ -208,19 +210,31 @@ def zeta_hf(alpha, beta, modal, dt):
     return alpha / (2 * omega) + beta * omega / 2 + modal
 
 
+def observed_order(values):
+    """For the last three values of a ladder that halves Δt: the observed order
+    p = log2(|v_1 − v_0| / |v_2 − v_1|) and the extrapolated limit v_2 + (v_2 − v_1)/(2^p − 1)
+    (Richardson), as text; nothing when the changes do not shrink (no order to speak of)."""
+    d1, d2 = values[1] - values[0], values[2] - values[1]
+    if d2 == 0 or d1 == 0 or d1 * d2 < 0 or abs(d2) >= abs(d1):
+        return ""
+    p = math.log2(d1 / d2)
+    return f"; observed order {p:.2g}, extrapolated {values[2] + d2 / (2 ** p - 1):.4g}"
+
+
 def refine_mesh(nx, ny):
     return math.ceil(MESH_FACTOR * nx), math.ceil(MESH_FACTOR * ny)
 
 
 class Study:
-    """The ladder, its runs and the decisions (module docs). `run(client)` returns the verdict
-    line; `rows`, `report` and `plot` write the outputs."""
+    """The ladders, their runs and the decisions (module docs). A setting is (nx, ny, Δt); a run
+    is a setting and its replica index. `run(client)` returns the verdict line; `rows`, `report`
+    and `plot` give the outputs."""
 
     def __init__(self, fmu, scene, quantities, tolerance, budget, *, transient, window, windows,
                  dt0, mesh, replicas, progress=True):
         self.fmu, self.scene, self.quantities = fmu, dict(scene), list(quantities)
         self.tolerance, self.budget, self.mesh, self.replicas = tolerance, budget, mesh, replicas
-        self.h = dt0
+        self.dt0 = self.h = dt0
         self.transient_steps = round(transient / dt0)
         self.window_steps = max(1, round(window / dt0))
         self.windows = windows
@@ -228,53 +242,51 @@ class Study:
         self.progress = progress
         self.element = int(self.scene.get("mesh.element", 1))
         self.mesh0 = (int(self.scene.get("mesh.nx", 10)), int(self.scene.get("mesh.ny", 7)))
-        self.dt0 = dt0
-        self.results = {}  # (phase, nx, ny, dt, replica) -> result
-        self.order = []  # the keys in the order they were run
+        self.results = {}  # (nx, ny, dt, replica) -> result of run_setting
+        self.order = []  # the runs in the order they were submitted
+        self.phase_of = {}  # run -> the ladder that ran it
         self.spent = 0.0
-        self.ladders = {}  # phase -> its settings (phase, nx, ny, dt), in ladder order
-        self.passes = {}  # phase -> {quantity: the coarse setting of its first passing pair}
-        self.replica_spread = {}  # setting -> {quantity: std over the replicas}
+        self.ladders = []  # (name, [settings in ladder order]) in the order they were climbed
+        self.passes = {}  # ladder name -> {quantity: the finer setting of its first passing pair}
+        self.replica_spread = {}  # setting -> {quantity: standard deviation over the replicas}
         self.recommended = None
         self.verdict = None
+        self.trends, self.advice = [], ""
 
     # -- runs
 
-    def start_values(self, setting, replica):
-        _, nx, ny, dt = setting
+    def start_values(self, run):
+        nx, ny, dt, replica = run
         values = dict(self.scene, **{"mesh.nx": nx, "mesh.ny": ny, "solver.time_step": dt})
         if replica:
             values["initial.preload_pressure"] = (float(self.scene.get("initial.preload_pressure", 0))
                                                   + replica * PERTURBATION_PA)
         return values
 
-    def execute(self, client, keys):
-        keys = [k for k in keys if k not in self.results]
-        tasks = [(key, run_setting, (self.start_values(key[:4], key[4]), self.h,
-                                     self.transient_steps, self.window_steps, self.windows))
-                 for key in keys]
-
+    def execute(self, client, phase, runs):
+        """Runs those of `runs` not run yet, in parallel on the client."""
+        runs = [r for r in runs if r not in self.results]
+        tasks = [(run, run_setting, (self.start_values(run), self.h, self.transient_steps,
+                                     self.window_steps, self.windows)) for run in runs]
         done = run_tasks(self.fmu, tasks, client)
-        for key in keys:
-            result = done[key]
-            self.results[key] = result
-            self.order.append(key)
+        for run in runs:
+            result = done[run]
+            self.results[run] = result
+            self.order.append(run)
+            self.phase_of[run] = phase
             self.spent += result["cpu"]
             if self.progress:
-                phase, nx, ny, dt, replica = key
                 q = self.quantities[0]
                 v, sd = value_and_spread(q, result["windows"][q])
-                print(f"  {phase} {nx}x{ny} dt={dt:.4g}" + (f" replica {replica}" if replica else "")
+                print(f"  {phase}: {self.describe(run[:3])}"
+                      + (f", replica {run[3]}" if run[3] else "")
                       + f": {q} = {v:.6g} ± {sd:.2g}, CPU {result['cpu']:.2f} s; spent "
                       f"{self.spent:.1f} of {self.budget:g} CPU s", file=sys.stderr, flush=True)
-
-    def summary(self, result):
-        return {q: value_and_spread(q, result["windows"][q]) for q in QUANTITIES}
 
     def value(self, setting, quantity):
         """(value, spread) of a setting: the unperturbed run's, the spread raised to the replicas'
         standard deviation where they ran."""
-        v, s = self.summary(self.results[setting + (0,)])[quantity]
+        v, s = value_and_spread(quantity, self.results[setting + (0,)]["windows"][quantity])
         extra = self.replica_spread.get(setting, {}).get(quantity)
         if extra is not None and not math.isnan(extra):
             s = extra if math.isnan(s) else max(s, extra)
@@ -282,6 +294,13 @@ class Study:
 
     def cost(self, setting):
         return self.results[setting + (0,)]["cpu"]
+
+    def estimate(self, known, setting):
+        """CPU seconds of `setting` from those of the run setting `known`: ∝ 1/Δt (the FMU's
+        steps; fmpy's per-output cost does not grow, so this overestimates) and ∝ cells^1.5 (a
+        heuristic for the banded solves)."""
+        (nx, ny, dt), (mx, my, et) = known, setting
+        return self.cost(known) * (dt / et) * ((mx * my) / (nx * ny)) ** 1.5
 
     # -- decisions
 
@@ -299,79 +318,89 @@ class Study:
     def fits(self, estimate):
         return self.spent + estimate <= self.budget
 
-    def climb(self, client, phase, first, refine, estimate, levels):
-        """Runs one ladder from the setting `first` (already run, or run here with its successor)
-        until every quantity passes at one pair and the replica check confirms it. Returns the
-        recommended (coarse) setting, or None with self.verdict set."""
-        ladder = self.ladders.setdefault(phase, [first])
+    def climb(self, client, phase, ladder, refine, levels, reference):
+        """Climbs one ladder from the settings `ladder` (≥ 2; those not run yet are run first,
+        their cost estimated from the setting `reference`) until every quantity passes at one pair
+        (a, b) and, with replicas, still passes with the replicas' spread of b. Returns b, or None
+        with the verdict set when the budget or the ladder ends first."""
+        ladder = list(ladder)
+        self.ladders.append((phase, ladder))
         passes = self.passes.setdefault(phase, {})
-        if first + (0,) not in self.results:
-            second = refine(first)
-            ladder.append(second)
-            self.execute(client, [first + (0,), second + (0,)])
+        missing = [s for s in ladder if s + (0,) not in self.results]
+        if missing:
+            guess = sum(self.estimate(reference, s) for s in missing) if reference else 0.0
+            if reference and not self.fits(guess):
+                return self.stop(phase, f"running {', '.join(map(self.describe, missing))} (about "
+                                 f"{guess:.3g} CPU s) would exceed the budget")
+            self.execute(client, phase, [s + (0,) for s in missing])
         while True:
-            if len(ladder) < 2:
-                nxt = refine(ladder[-1])
-                if not self.fits(estimate(ladder[-1], nxt)):
-                    return self.stop(phase, f"the first refinement {self.describe(nxt)} would "
-                                     "exceed the budget")
-                ladder.append(nxt)
-                self.execute(client, [nxt + (0,)])
             a, b = ladder[-2], ladder[-1]
             checks = {q: self.check(a, b, q) for q in self.quantities}
             for q, (ok, _, _) in checks.items():
                 if ok and q not in passes:
-                    passes[q] = a
+                    passes[q] = b
             if all(ok for ok, _, _ in checks.values()):
-                if self.replicas > 1 and a not in self.replica_spread:
-                    keys = [a + (k,) for k in range(1, self.replicas)]
-                    if not self.fits((self.replicas - 1) * self.cost(a)):
-                        return self.stop(phase, f"the replica check of {self.describe(a)} would "
-                                         "exceed the budget")
-                    self.execute(client, keys)
-                    self.replica_spread[a] = {}
+                if self.replicas > 1 and b not in self.replica_spread:
+                    guess = (self.replicas - 1) * self.cost(b)
+                    if not self.fits(guess):
+                        return self.stop(phase, f"the replica check of {self.describe(b)} (about "
+                                         f"{guess:.3g} CPU s) would exceed the budget")
+                    self.execute(client, phase, [b + (k,) for k in range(1, self.replicas)])
+                    self.replica_spread[b] = {}
                     for q in QUANTITIES:
-                        reps = [self.summary(self.results[a + (k,)])[q][0]
-                                for k in range(self.replicas)]
-                        self.replica_spread[a][q] = float(np.std(reps, ddof=1))
-                    continue  # re-check the pair with the replicas' spread
-                return a
+                        replicas = [value_and_spread(q, self.results[b + (k,)]["windows"][q])[0]
+                                    for k in range(self.replicas)]
+                        self.replica_spread[b][q] = float(np.std(replicas, ddof=1))
+                    continue  # the pair again, with the replicas' spread
+                return b
             if len(ladder) >= levels:
                 return self.stop(phase, f"the ladder ended at {self.describe(b)}")
             nxt = refine(b)
-            guess = estimate(b, nxt)
+            guess = self.estimate(b, nxt)
             if not self.fits(guess):
                 return self.stop(phase, f"the next refinement, {self.describe(nxt)} (about "
                                  f"{guess:.3g} CPU s), would exceed the budget")
             ladder.append(nxt)
-            self.execute(client, [nxt + (0,)])
+            self.execute(client, phase, [nxt + (0,)])
 
     def run(self, client):
+        """The Δt ladder; with --mesh then the mesh ladder at the Δt found, then Δt again on the
+        mesh found, and so on, until the recommended setting b is the finer member both of a
+        passing Δt pair (b with 2Δt) and of a passing mesh pair (b with the previous mesh)."""
+        def halve(s):
+            return s[0], s[1], s[2] / 2
+
+        def coarser_mesh(s):
+            return refine_mesh(s[0], s[1]) + (s[2],)
+
         nx, ny = self.mesh0
-        first = ("dt", nx, ny, self.dt0)
-        rec = self.climb(client, "dt", first, lambda s: ("dt", s[1], s[2], s[3] / 2),
-                         lambda s, _: 2 * self.cost(s), MAX_DT_LEVELS)
+        rec = self.climb(client, "Δt ladder", [(nx, ny, self.dt0), (nx, ny, self.dt0 / 2)], halve,
+                         MAX_DT_LEVELS, None)
+        meshes = [self.mesh0]  # the mesh ladder so far
+        for round_ in range(1, MAX_ROUNDS + 1):
+            if rec is None or not self.mesh:
+                break
+            # The mesh pair ending at rec's mesh (the first round: the next mesh).
+            if len(meshes) == 1:
+                pair = [rec, coarser_mesh(rec)]
+            else:
+                pair = [meshes[-2] + rec[2:], rec]
+            new = self.climb(client, f"mesh ladder {round_}", pair, coarser_mesh,
+                             MAX_MESH_LEVELS + 1, rec)
+            if new is None or new == rec:
+                rec = new
+                break
+            ladder = self.ladders[-1][1]
+            meshes = [s[:2] for s in ladder]
+            rec = new
+            new = self.climb(client, f"Δt ladder {round_ + 1}", [rec[:2] + (2 * rec[2],), rec],
+                             halve, MAX_DT_LEVELS, rec)
+            if new is None or new == rec:
+                rec = new
+                break
+            rec = new
         if rec is None:
             return self.verdict
-        if self.mesh:
-            # The mesh ladder at the recommended Δt, from the scene's mesh (run: the same start
-            # values as the Δt ladder's setting, so the results are shared).
-            start = ("mesh",) + rec[1:]
-            for k in range(self.replicas):
-                if rec + (k,) in self.results:
-                    self.results[start + (k,)] = self.results[rec + (k,)]
-            if rec in self.replica_spread:
-                self.replica_spread[start] = self.replica_spread[rec]
-
-            def refine(s):
-                return ("mesh",) + refine_mesh(s[1], s[2]) + (s[3],)
-
-            def estimate(s, t):
-                return self.cost(s) * ((t[1] * t[2]) / (s[1] * s[2])) ** 1.5
-
-            rec = self.climb(client, "mesh", start, refine, estimate, MAX_MESH_LEVELS + 1)
-            if rec is None:
-                return self.verdict
         self.recommended = rec
         values = ", ".join(f"{q} = {self.value(rec, q)[0]:.6g} {QUANTITIES[q][0]}"
                            for q in self.quantities)
@@ -382,26 +411,22 @@ class Study:
     # -- words
 
     def describe(self, setting):
-        _, nx, ny, dt = setting
+        nx, ny, dt = setting
         name = {v: k for k, v in ELEMENT.items()}.get(self.element, self.element)
         return f"{name} {nx}x{ny}, Δt = {dt:.4g} s"
 
     def settings_text(self, setting):
-        _, nx, ny, dt = setting
+        nx, ny, dt = setting
         return f"mesh.element={self.element} mesh.nx={nx} mesh.ny={ny} solver.time_step={dt:.6g}"
-
-    def finest(self):
-        """The finest setting run, of the last ladder."""
-        return list(self.ladders.values())[-1][-1]
 
     def zeta_hf_at(self, setting):
         result = self.results[setting + (0,)]
         return zeta_hf(result["alpha"], result["beta"],
-                       float(self.scene.get("damping.modal_ratio", 0.0)), setting[3])
+                       float(self.scene.get("damping.modal_ratio", 0.0)), setting[2])
 
     def stop(self, phase, why):
-        ladder = self.ladders[phase]
-        trends = []
+        ladder = self.ladders[-1][1]
+        ladder = [s for s in ladder if s + (0,) in self.results]
         spread_limited = []
         for q in self.quantities:
             unit = QUANTITIES[q][0]
@@ -410,16 +435,19 @@ class Study:
             if len(ladder) >= 2:
                 ok, diff, sigma = self.check(ladder[-2], ladder[-1], q)
                 text += (f" (last refinement {'passes' if ok else 'fails'}: change "
-                         f"{100 * diff:.2g} %, 2σ {100 * sigma:.2g} %)")
+                         f"{100 * diff:.2g} %, 2σ {100 * sigma:.2g} %")
+                if len(values) >= 3 and phase.startswith("Δt"):
+                    text += observed_order(values[-3:])
+                text += ")"
                 if not ok and sigma > self.tolerance:
                     spread_limited.append(q)
-            trends.append(f"{q} {text}")
-        finest = ladder[-1]
+            self.trends.append(f"{q} {text}")
+        finest = min(ladder, key=lambda s: s[2])
         zeta = self.zeta_hf_at(finest)
         beta = self.results[finest + (0,)]["beta"]
         if zeta < CONVERGED_HIGH_MODE_RATIO:
             if beta > 0:
-                advice = (f"ζ_hf = {zeta:.3g} < {CONVERGED_HIGH_MODE_RATIO} at Δt = {finest[3]:.3g} s:"
+                advice = (f"ζ_hf = {zeta:.3g} < {CONVERGED_HIGH_MODE_RATIO} at Δt = {finest[2]:.3g} s:"
                           f" refine to Δt ≤ 2β = {2 * beta:.3g} s (more budget) or raise "
                           "damping.stiffness_proportional; docs/accuracy/damping.md")
             else:
@@ -431,27 +459,27 @@ class Study:
             advice = (f"the spread of {', '.join(spread_limited)} exceeds the tolerance: longer or "
                       "more windows (--window, --windows), or a looser --tolerance")
         else:
-            advice = "the values still move: raise --budget-seconds or loosen --tolerance"
-        self.trends = trends
+            advice = ("the values still move: raise --budget-seconds, start the ladder lower (--dt) "
+                      "or loosen --tolerance")
         self.advice = advice
-        self.verdict = (f"not converged: {why} (spent {self.spent:.1f} of {self.budget:g} CPU s); "
-                        f"trend: {'; '.join(trends)}; advice: {advice}")
+        self.verdict = (f"not converged: {phase}: {why} (spent {self.spent:.1f} of "
+                        f"{self.budget:g} CPU s); trend: {'; '.join(self.trends)}; advice: {advice}")
         return None
 
     # -- outputs
 
     def rows(self):
-        header = ["phase", "element", "nx", "ny", "dt", "replica", "quantity", "value", "spread",
+        header = ["ladder", "element", "nx", "ny", "dt", "replica", "quantity", "value", "spread",
                   "cpu_s", "simulated_s"]
         lines = [",".join(header)]
-        for key in self.order:
-            phase, nx, ny, dt, replica = key
-            result = self.results[key]
+        for run in self.order:
+            nx, ny, dt, replica = run
+            result = self.results[run]
             for q in self.quantities:
                 v, s = value_and_spread(q, result["windows"][q])
                 lines.append(",".join(str(x) for x in (
-                    phase, self.element, nx, ny, repr(dt), replica, q, repr(v), repr(s),
-                    f"{result['cpu']:.3f}", repr(self.simulated))))
+                    self.phase_of[run], self.element, nx, ny, repr(dt), replica, q, repr(v),
+                    repr(s), f"{result['cpu']:.3f}", repr(self.simulated))))
         return "\n".join(lines) + "\n"
 
     def report(self, command, where):
@@ -467,19 +495,20 @@ class Study:
                  "", f"**{self.verdict}**", ""]
         if self.recommended is not None:
             rec = self.recommended
-            ladder = list(self.ladders.values())[-1]
-            finer = ladder[ladder.index(rec) + 1]
+            partners = [ladder[ladder.index(rec) - 1] for _, ladder in self.ladders
+                        if rec in ladder and ladder.index(rec) > 0]
             lines += [f"Recommended: {self.describe(rec)} (`{self.settings_text(rec)}`), "
-                      f"{self.cost(rec) / self.simulated:.3g} CPU s per simulated second, checked "
-                      f"against {self.describe(finer)}.", "",
-                      "| quantity | unit | value | estimated error (vs the finer setting) | spread "
-                      "(1σ) | cheapest passing setting |", "|---|---|---|---|---|---|"]
+                      f"{self.cost(rec) / self.simulated:.3g} CPU s per simulated second; checked "
+                      f"against {' and '.join(map(self.describe, partners))}.", "",
+                      "| quantity | unit | value | estimated error (largest change to it) | "
+                      "spread (1σ) | first passing setting per ladder |", "|---|---|---|---|---|---|"]
             for q in self.quantities:
-                v, s = self.value(rec, q)
-                vf, _ = self.value(finer, q)
-                own = [self.describe(p[q]) for p in self.passes.values() if q in p]
-                lines.append(f"| {q} | {QUANTITIES[q][0]} | {v:.6g} | {abs(v - vf):.3g} "
-                             f"({100 * abs(v - vf) / abs(vf) if vf else 0:.2g} %) | {s:.3g} | "
+                v, sd = self.value(rec, q)
+                error = max(abs(v - self.value(p, q)[0]) for p in partners)
+                own = [f"{name}: {self.describe(found[q])}" for name, found in self.passes.items()
+                       if q in found]
+                lines.append(f"| {q} | {QUANTITIES[q][0]} | {v:.6g} | {error:.3g} "
+                             f"({100 * error / abs(v) if v else 0:.2g} %) | {sd:.3g} | "
                              f"{'; '.join(own)} |")
             lines.append("")
         else:
@@ -488,21 +517,19 @@ class Study:
         lines += ["## Runs", "", "| ladder | setting | replica | CPU s | ζ_hf | "
                   + " | ".join(f"{q} ({QUANTITIES[q][0]})" for q in self.quantities) + " |",
                   "|---|---|---|---|---|" + "---|" * len(self.quantities)]
-        for key in self.order:
-            setting, replica = key[:4], key[4]
-            result = self.results[key]
+        for run in self.order:
+            result = self.results[run]
             cells = []
             for q in self.quantities:
-                v, s = value_and_spread(q, result["windows"][q])
-                cells.append(f"{v:.6g} ± {s:.2g}")
-            lines.append(f"| {key[0]} | {self.describe(setting)} | {replica} | {result['cpu']:.2f} |"
-                         f" {self.zeta_hf_at(setting):.3g} | " + " | ".join(cells) + " |")
+                v, sd = value_and_spread(q, result["windows"][q])
+                cells.append(f"{v:.6g} ± {sd:.2g}")
+            lines.append(f"| {self.phase_of[run]} | {self.describe(run[:3])} | {run[3]} | "
+                         f"{result['cpu']:.2f} | {self.zeta_hf_at(run[:3]):.3g} | "
+                         + " | ".join(cells) + " |")
         if self.replica_spread:
             lines += ["", "Replica check (standard deviation over the replicas against the run's "
                       "window spread):", ""]
             for setting, spreads in self.replica_spread.items():
-                if setting[0] != "dt" and ("dt",) + setting[1:] in self.replica_spread:
-                    continue  # shared with the Δt ladder
                 for q in self.quantities:
                     _, window = value_and_spread(q, self.results[setting + (0,)]["windows"][q])
                     lines.append(f"- {self.describe(setting)}, {q}: replicas {spreads[q]:.3g}, "
@@ -513,7 +540,7 @@ class Study:
         return "\n".join(lines)
 
     def plot(self, path):
-        """Work-precision: each quantity's relative difference from the finest setting of its
+        """Work-precision: each quantity's relative difference from the finest setting of each
         ladder (2σ error bars) against the CPU seconds per simulated second."""
         import matplotlib
         matplotlib.use("Agg")
@@ -521,9 +548,12 @@ class Study:
 
         fig, ax = plt.subplots(figsize=(7.5, 5))
         colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-        markers = {"dt": "o-", "mesh": "s--"}
+        styles = ["o-", "s--", "^-.", "v:", "D-", "P--"]
         for i, q in enumerate(self.quantities):
-            for phase, ladder in self.ladders.items():
+            for j, (phase, ladder) in enumerate(self.ladders):
+                ladder = [s for s in ladder if s + (0,) in self.results]
+                if len(ladder) < 2:
+                    continue
                 ref, _ = self.value(ladder[-1], q)
                 xs, ys, lo, hi = [], [], [], []
                 for s in ladder[:-1]:
@@ -534,9 +564,9 @@ class Study:
                         hi.append(SIGMAS * sd / abs(ref))
                         lo.append(min(hi[-1], 0.999 * ys[-1]))  # a log axis has no 0
                 if xs:
-                    ax.errorbar(xs, ys, yerr=[lo, hi],
-                                fmt=markers[phase], color=colors[i % len(colors)], ms=4, capsize=2,
-                                label=f"{q}, {'Δt' if phase == 'dt' else 'mesh'} ladder")
+                    ax.errorbar(xs, ys, yerr=[lo, hi], fmt=styles[j % len(styles)],
+                                color=colors[i % len(colors)], ms=4, capsize=2,
+                                label=f"{q}, {phase}")
         if self.recommended is not None:
             ax.axvline(self.cost(self.recommended) / self.simulated, color="k", ls=":", lw=1,
                        label="recommended")
@@ -544,7 +574,7 @@ class Study:
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("CPU seconds per simulated second")
-        ax.set_ylabel("|value − value at the finest setting| / |value at the finest|")
+        ax.set_ylabel("|value − value at the ladder's finest| / |value there|")
         ax.set_title(self.verdict.split(":")[0], fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
