@@ -29,24 +29,31 @@ is read at the communication points, every h = the ladder's first Δt):
 Per run, value and spread as the statistics study (examples/statistics.rs) has them: the value is
 the mean of the K window values (the peak: their maximum), the spread the standard deviation of
 the window values / √K (the peak: of the window peaks), the standard error of what one run
-reports. The check against perturbed replicas (R runs of the recommended setting whose
-initial.preload_pressure differs by k·1e-4 Pa, k = 0 … R−1, about 1e-11 m of deflection): the
-spread is raised to the replicas' standard deviation where that is larger.
+reports. The check against perturbed replicas (R runs of a candidate setting whose
+initial.preload_pressure differs by k·1e-4 Pa, k = 0 … R−1, about 1e-11 m of deflection, as in
+the statistics study): its spread is raised to the replicas' standard deviation where larger.
 
 Method (`Study`). Ladder Δt_k = Δt_0/2^k on the scene's mesh, Δt_0 = --dt (default the scene's
-solver.time_step). A quantity has converged between two successive settings a (coarser) and b when
+solver.time_step). A quantity has converged between two successive settings a (coarser) and b
+(finer) when
 
     |v_a − v_b| + 2·σ_ab ≤ tol·|v_b|,   σ_ab = √(σ_a² + σ_b²),
 
 i.e. they agree within the tolerance and their difference is resolved by the spread (known to
 2σ, about 95 %, inside the tolerance). When every quantity has converged at the same pair, the
-replicas of a run; if the pair still passes with their spread, a is recommended (the cheaper of
-the two, its estimated error |v_a − v_b|). With --mesh the mesh ladder follows at that Δt:
-(nx, ny) → (⌈1.5·nx⌉, ⌈1.5·ny⌉), the same test between successive meshes. The first two Δt run
-in parallel, as do the replicas. The budget counts the CPU time of the runs (each worker's thread
-time); a refinement is started only if the spent time plus its estimate (the last run's cost ×2
-for Δt/2, × the cell ratio^1.5 for a mesh) fits, else the study stops: "not converged", with the
-trend and the damping advice of docs/accuracy/damping.md (ζ_hf ≥ 0.25).
+replicas of b run; if the pair still passes with their spread, b is recommended, the finer of the
+two: for a ladder that converges with order p ≥ 1 its error is about |v_a − v_b|/(2^p − 1), at
+most the difference the report gives as its estimated error. With --mesh the mesh ladder follows
+at that Δt, (nx, ny) → (⌈1.5·nx⌉, ⌈1.5·ny⌉) with the same test, then the Δt ladder again on the
+mesh found (from the pair 2Δt, Δt), and so on until a ladder's first pair passes: the recommended
+setting is then the finer member both of a passing Δt pair and of a passing mesh pair (a Δt
+converged on a coarse mesh need not be on a fine one: the preset's RMS corner changes by 0.6 %
+from Δt = 1e-4 to 5e-5 s on Argyris 2 × 1, by 0.9 % on 9 × 5). Runs not yet made at the start of
+a ladder run in parallel, as do the replicas. The budget counts the CPU time of the runs (each
+worker's thread time); a run is started only if the spent time plus its estimate (`estimate`)
+fits, else the study stops: "not converged", with the trend along the last ladder (and, for Δt,
+the observed order and extrapolated value) and advice: add stiffness-proportional damping when
+ζ_hf < 0.25 (docs/accuracy/damping.md), longer windows when the spread is what fails.
 
 Output: DIR/runs.csv (one row per run and quantity), DIR/report.md, DIR/work_precision.png;
 progress on stderr; the last line of stdout `converged: ...` or `not converged: ...`.
@@ -374,7 +381,7 @@ class Study:
             return refine_mesh(s[0], s[1]) + (s[2],)
 
         nx, ny = self.mesh0
-        rec = self.climb(client, "Δt ladder", [(nx, ny, self.dt0), (nx, ny, self.dt0 / 2)], halve,
+        rec = self.climb(client, "dt-1", [(nx, ny, self.dt0), (nx, ny, self.dt0 / 2)], halve,
                          MAX_DT_LEVELS, None)
         meshes = [self.mesh0]  # the mesh ladder so far
         for round_ in range(1, MAX_ROUNDS + 1):
@@ -385,7 +392,7 @@ class Study:
                 pair = [rec, coarser_mesh(rec)]
             else:
                 pair = [meshes[-2] + rec[2:], rec]
-            new = self.climb(client, f"mesh ladder {round_}", pair, coarser_mesh,
+            new = self.climb(client, f"mesh-{round_}", pair, coarser_mesh,
                              MAX_MESH_LEVELS + 1, rec)
             if new is None or new == rec:
                 rec = new
@@ -393,7 +400,7 @@ class Study:
             ladder = self.ladders[-1][1]
             meshes = [s[:2] for s in ladder]
             rec = new
-            new = self.climb(client, f"Δt ladder {round_ + 1}", [rec[:2] + (2 * rec[2],), rec],
+            new = self.climb(client, f"dt-{round_ + 1}", [rec[:2] + (2 * rec[2],), rec],
                              halve, MAX_DT_LEVELS, rec)
             if new is None or new == rec:
                 rec = new
@@ -436,7 +443,7 @@ class Study:
                 ok, diff, sigma = self.check(ladder[-2], ladder[-1], q)
                 text += (f" (last refinement {'passes' if ok else 'fails'}: change "
                          f"{100 * diff:.2g} %, 2σ {100 * sigma:.2g} %")
-                if len(values) >= 3 and phase.startswith("Δt"):
+                if len(values) >= 3 and phase.startswith("dt"):
                     text += observed_order(values[-3:])
                 text += ")"
                 if not ok and sigma > self.tolerance:
@@ -540,8 +547,9 @@ class Study:
         return "\n".join(lines)
 
     def plot(self, path):
-        """Work-precision: each quantity's relative difference from the finest setting of each
-        ladder (2σ error bars) against the CPU seconds per simulated second."""
+        """Work-precision: each run setting's relative difference from the reference (the
+        recommended setting, or else the last one run), with 2σ error bars, against its CPU seconds
+        per simulated second; the settings of each ladder joined in ladder order."""
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
@@ -549,14 +557,14 @@ class Study:
         fig, ax = plt.subplots(figsize=(7.5, 5))
         colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
         styles = ["o-", "s--", "^-.", "v:", "D-", "P--"]
+        reference = self.recommended or self.order[-1][:3]
         for i, q in enumerate(self.quantities):
+            ref, _ = self.value(reference, q)
             for j, (phase, ladder) in enumerate(self.ladders):
-                ladder = [s for s in ladder if s + (0,) in self.results]
-                if len(ladder) < 2:
-                    continue
-                ref, _ = self.value(ladder[-1], q)
                 xs, ys, lo, hi = [], [], [], []
-                for s in ladder[:-1]:
+                for s in ladder:
+                    if s + (0,) not in self.results:
+                        continue
                     v, sd = self.value(s, q)
                     if ref and v != ref:
                         xs.append(self.cost(s) / self.simulated)
@@ -569,12 +577,12 @@ class Study:
                                 label=f"{q}, {phase}")
         if self.recommended is not None:
             ax.axvline(self.cost(self.recommended) / self.simulated, color="k", ls=":", lw=1,
-                       label="recommended")
+                       label=f"recommended, {self.describe(self.recommended)}")
         ax.axhline(self.tolerance, color="gray", lw=1, label=f"tolerance {self.tolerance:g}")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("CPU seconds per simulated second")
-        ax.set_ylabel("|value − value at the ladder's finest| / |value there|")
+        ax.set_ylabel(f"|value − value at {self.describe(reference)}| / |that value|")
         ax.set_title(self.verdict.split(":")[0], fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
