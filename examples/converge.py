@@ -543,7 +543,7 @@ class Study:
                                  f"windows {window:.3g} {QUANTITIES[q][0]}")
         lines += ["", "Quantities:", ""] + [f"- `{q}` ({u}): {d}" for q, (u, d) in
                                             QUANTITIES.items() if q in self.quantities]
-        lines += ["", "Method and definitions: docs/converge.md. Plot: work_precision.png.", ""]
+        lines += ["", "Method and definitions: docs/converge/README.md. Plot: work_precision.png.", ""]
         return "\n".join(lines)
 
     def plot(self, path):
@@ -583,7 +583,8 @@ class Study:
         ax.set_yscale("log")
         ax.set_xlabel("CPU seconds per simulated second")
         ax.set_ylabel(f"|value − value at {self.describe(reference)}| / |that value|")
-        ax.set_title(self.verdict.split(":")[0], fontsize=10)
+        ax.set_title(f"PlateImpact convergence study: {self.verdict.split(':')[0]} "
+                     f"(tolerance {self.tolerance:g})", fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
         fig.tight_layout()

@@ -1,7 +1,7 @@
-"""scripts/converge (examples/converge.py, docs/converge.md): on a damped scene it converges and
-its recommended value agrees with a finer reference run within the tolerance; on the undamped
-paper scene with a small budget it says "not converged" rather than a number; and against a
-separately started `dask scheduler` with `dask worker` processes it writes the runs the local
+"""scripts/converge (examples/converge.py, docs/converge/README.md): on a damped scene it
+converges and its recommended value agrees with a finer reference run within the tolerance; on the
+undamped paper scene with a small budget it says "not converged" rather than a number; and against
+a separately started `dask scheduler` with `dask worker` processes it writes the runs the local
 cluster does.
 
 Scene and windows are small so that each study costs a few CPU seconds: the damped preset
