@@ -377,7 +377,7 @@ class Study:
         def halve(s):
             return s[0], s[1], s[2] / 2
 
-        def coarser_mesh(s):
+        def finer_mesh(s):
             return refine_mesh(s[0], s[1]) + (s[2],)
 
         nx, ny = self.mesh0
@@ -389,10 +389,10 @@ class Study:
                 break
             # The mesh pair ending at rec's mesh (the first round: the next mesh).
             if len(meshes) == 1:
-                pair = [rec, coarser_mesh(rec)]
+                pair = [rec, finer_mesh(rec)]
             else:
                 pair = [meshes[-2] + rec[2:], rec]
-            new = self.climb(client, f"mesh-{round_}", pair, coarser_mesh,
+            new = self.climb(client, f"mesh-{round_}", pair, finer_mesh,
                              MAX_MESH_LEVELS + 1, rec)
             if new is None or new == rec:
                 rec = new
@@ -620,7 +620,7 @@ def load_scene(path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+    parser = argparse.ArgumentParser(prog="scripts/converge", description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter,
                                      epilog=__doc__.split("\n\n", 1)[1])
     parser.add_argument("--out", required=True, help="output folder")
