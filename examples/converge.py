@@ -266,8 +266,8 @@ class Study:
         nx, ny, dt, replica = run
         values = dict(self.scene, **{"mesh.nx": nx, "mesh.ny": ny, "solver.time_step": dt})
         if replica:
-            values["initial.preload_pressure"] = (float(self.scene.get("initial.preload_pressure", 0))
-                                                  + replica * PERTURBATION_PA)
+            preload = float(self.scene.get("initial.preload_pressure", 0.0))
+            values["initial.preload_pressure"] = preload + replica * PERTURBATION_PA
         return values
 
     def execute(self, client, phase, runs):
@@ -443,8 +443,8 @@ class Study:
                 ok, diff, sigma = self.check(ladder[-2], ladder[-1], q)
                 text += (f" (last refinement {'passes' if ok else 'fails'}: change "
                          f"{100 * diff:.2g} %, 2σ {100 * sigma:.2g} %")
-                if len(values) >= 3 and phase.startswith("dt"):
-                    text += observed_order(values[-3:])
+                if len(values) >= 3 and phase.startswith("dt") and diff > sigma:
+                    text += observed_order(values[-3:])  # only for a change the spread resolves
                 text += ")"
                 if not ok and sigma > self.tolerance:
                     spread_limited.append(q)
@@ -454,8 +454,8 @@ class Study:
         beta = self.results[finest + (0,)]["beta"]
         if zeta < CONVERGED_HIGH_MODE_RATIO:
             if beta > 0:
-                advice = (f"ζ_hf = {zeta:.3g} < {CONVERGED_HIGH_MODE_RATIO} at Δt = {finest[2]:.3g} s:"
-                          f" refine to Δt ≤ 2β = {2 * beta:.3g} s (more budget) or raise "
+                advice = (f"ζ_hf = {zeta:.3g} < {CONVERGED_HIGH_MODE_RATIO} at Δt = "
+                          f"{finest[2]:.3g} s: refine to Δt ≤ 2β = {2 * beta:.3g} s (more budget) or raise "
                           "damping.stiffness_proportional; docs/accuracy/damping.md")
             else:
                 advice = (f"ζ_hf = {zeta:.3g} < {CONVERGED_HIGH_MODE_RATIO}: add stiffness-"
@@ -466,11 +466,12 @@ class Study:
             advice = (f"the spread of {', '.join(spread_limited)} exceeds the tolerance: longer or "
                       "more windows (--window, --windows), or a looser --tolerance")
         else:
-            advice = ("the values still move: raise --budget-seconds, start the ladder lower (--dt) "
-                      "or loosen --tolerance")
+            advice = ("the values still move: raise --budget-seconds, start the ladder lower "
+                      "(--dt) or loosen --tolerance")
         self.advice = advice
         self.verdict = (f"not converged: {phase}: {why} (spent {self.spent:.1f} of "
-                        f"{self.budget:g} CPU s); trend: {'; '.join(self.trends)}; advice: {advice}")
+                        f"{self.budget:g} CPU s); trend: {'; '.join(self.trends)}; "
+                        f"advice: {advice}")
         return None
 
     # -- outputs
@@ -495,8 +496,8 @@ class Study:
                  + (", ".join(f"`{k}={v}`" for k, v in sorted(self.scene.items())) or "defaults"),
                  "",
                  f"Windows: {self.transient_steps * self.h:.4g} s of transient, then "
-                 f"{self.windows} windows of {self.window_steps * self.h:.4g} s; outputs read every "
-                 f"{self.h:.4g} s. Tolerance {self.tolerance:g} (relative); a pair of successive "
+                 f"{self.windows} windows of {self.window_steps * self.h:.4g} s; outputs read "
+                 f"every {self.h:.4g} s. Tolerance {self.tolerance:g} (relative); a pair of successive "
                  f"settings passes when |v_a − v_b| + {SIGMAS:g}σ_ab ≤ tol·|v_b|. Budget "
                  f"{self.budget:g} CPU s, spent {self.spent:.1f} CPU s in {len(self.order)} runs.",
                  "", f"**{self.verdict}**", ""]
@@ -508,7 +509,8 @@ class Study:
                       f"{self.cost(rec) / self.simulated:.3g} CPU s per simulated second; checked "
                       f"against {' and '.join(map(self.describe, partners))}.", "",
                       "| quantity | unit | value | estimated error (largest change to it) | "
-                      "spread (1σ) | first passing setting per ladder |", "|---|---|---|---|---|---|"]
+                      "spread (1σ) | first passing setting per ladder |",
+                      "|---|---|---|---|---|---|"]
             for q in self.quantities:
                 v, sd = self.value(rec, q)
                 error = max(abs(v - self.value(p, q)[0]) for p in partners)
@@ -543,7 +545,8 @@ class Study:
                                  f"windows {window:.3g} {QUANTITIES[q][0]}")
         lines += ["", "Quantities:", ""] + [f"- `{q}` ({u}): {d}" for q, (u, d) in
                                             QUANTITIES.items() if q in self.quantities]
-        lines += ["", "Method and definitions: docs/converge/README.md. Plot: work_precision.png.", ""]
+        lines += ["", "Method and definitions: docs/converge/README.md. Plot: work_precision.png.",
+                  ""]
         return "\n".join(lines)
 
     def plot(self, path):
@@ -673,7 +676,8 @@ def main(argv=None):
     if amplitude == 0 and (args.transient is None or args.window is None):
         parser.error("the scene has no base forcing (base.amplitude = 0): give --transient and "
                      "--window")
-    dt0 = args.dt or float(scene.get("solver.time_step", float(variables["solver.time_step"].start)))
+    dt0 = args.dt or float(scene.get("solver.time_step",
+                                     float(variables["solver.time_step"].start)))
     study = Study(args.fmu, scene, dict.fromkeys(args.quantity), args.tolerance,
                   args.budget_seconds,
                   transient=args.transient if args.transient is not None else 35 * period,

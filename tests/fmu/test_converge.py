@@ -74,7 +74,8 @@ def test_damped_scene_converges_to_a_finer_reference(fmu_path, local_study):
     dt = float(settings["solver.time_step"])
     scene = converge.load_scene(ROOT / "scenes" / "forced-35hz-damped.json")
     h = scene["solver.time_step"]
-    scene.update({"mesh.element": 1, "mesh.nx": 2 * nx, "mesh.ny": 2 * ny, "solver.time_step": dt / 4})
+    scene.update({"mesh.element": 1, "mesh.nx": 2 * nx, "mesh.ny": 2 * ny,
+                  "solver.time_step": dt / 4})
     blob = open(fmu_path, "rb").read()
     result, _ = converge.run_setting(blob, hashlib.sha256(blob).hexdigest(), scene, h,
                                      round(0.5 / h), round(0.2 / h), 4)
