@@ -19,6 +19,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 from conftest import ROOT
@@ -143,3 +144,37 @@ def test_separate_scheduler_and_workers_give_the_local_runs(fmu_path, local_stud
     local_line, local_out = local_study
     assert line.split("; cost")[0] == local_line.split("; cost")[0]
     assert runs(tmp_path / "out" / "runs.csv") == runs(local_out / "runs.csv")
+
+
+def test_zeta_hf_matches_the_damping_study():
+    """ζ_hf as docs/accuracy/damping.md tabulates it (3 digits there): the preset's β alone at
+    Δt = 1e-4 s, and the Rayleigh pair ζ = 1 % at 53.83 Hz and 5 kHz at Δt = 1e-4 and 1e-6 s."""
+    assert round(converge.zeta_hf(0.0, 5.913e-5, 0.0, 1e-4), 3) == 0.296
+    assert round(converge.zeta_hf(6.692, 6.298e-7, 0.0, 1e-4), 4) == 0.0035
+    assert round(converge.zeta_hf(6.692, 6.298e-7, 0.0, 1e-6), 3) == 0.315
+    assert converge.zeta_hf(6.692, 0.0, 0.01, 1e-6) == 0.01  # no β: the modal ratio alone
+
+
+def test_window_values_split_the_samples_and_the_counts():
+    """Two windows of 2 steps of 0.5 s: each holds the samples after its own steps, the impacts of
+    the steps ending in it, and the change of the cumulative losses across it."""
+    reals = np.zeros((5, len(converge.REALS)))
+    reals[:, 0] = [9.0, 3.0, -4.0, 1.0, 1.0]  # corner1: the first sample precedes the windows
+    reals[:, 1] = [0.0, 0.0, 5.0, 0.0, -2.0]  # corner2
+    reals[:, 2] = [7.0, 1.0, 3.0, 5.0, 5.0]  # energy.total
+    reals[:, 3] = [0.0, 1.0, 2.0, 4.0, 8.0]  # energy.damping_loss
+    reals[:, 4] = [1.0, 1.0, 1.0, 1.0, 3.0]  # energy.contact_loss
+    reals[:, 5] = [0.0, 3.0, 4.0, 0.0, 0.0]  # base.mean_force
+    impacts = np.array([5, 1, 0, 0, 2])
+    w = converge.window_values(reals, impacts, 1.0, 2)
+    assert w["mean_energy"] == [2.0, 5.0]
+    assert w["rms_corner"] == [np.sqrt(12.5), 1.0]
+    assert w["peak_corner"] == [5.0, 2.0]
+    assert w["rms_base_force"] == [np.sqrt(12.5), 0.0]
+    assert w["damping_loss_rate"] == [2.0, 6.0]
+    assert w["contact_loss_rate"] == [0.0, 2.0]
+    assert w["impact_rate"] == [1.0, 2.0]
+    # The peak: the largest window's, spread of the window peaks; the others: the mean, σ/√K.
+    assert converge.value_and_spread("peak_corner", [5.0, 2.0]) == (5.0, np.std([5, 2], ddof=1))
+    assert converge.value_and_spread("impact_rate", [1.0, 2.0]) == (
+        1.5, np.std([1, 2], ddof=1) / np.sqrt(2))
