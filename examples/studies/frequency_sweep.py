@@ -40,29 +40,24 @@ where or in which order tasks run; rows are sorted by configuration, swept param
 import argparse
 import dataclasses
 import hashlib
-import io
 import itertools
 import math
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
-import tempfile
 import time
-import zipfile
 
 import numpy as np
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-DEFAULT_FMU = ROOT / "target" / "fmu" / "PlateImpact.fmu"
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # examples/: the shared fmu_dask
+from fmu_dask import DEFAULT_FMU, ELEMENT, ROOT, dask_client, fmu_dir, parse_value, run_tasks  # noqa: E402
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.contact_loss",
            "contact.active_nodes", "contact.impacts"]
 CONFIGS = {  # name -> start values that define it
     "obstacles": {"obstacle.lower_enabled": True, "obstacle.upper_enabled": True},
     "free": {"obstacle.lower_enabled": False, "obstacle.upper_enabled": False},
 }
-ELEMENT = {"argyris": 1, "fvs": 2}
 # Parameters the natural frequencies depend on (passed to the modes example).
 MODAL = ("plate.", "material.", "mesh.")
 COLUMNS = ["config", "params", "base.frequency", "peak_corner_m", "impacts", "impacts_window",
@@ -73,33 +68,13 @@ COLUMNS = ["config", "params", "base.frequency", "peak_corner_m", "impacts", "im
 # ----------------------------------------------------------------------------------------------
 # One run (executed on a worker)
 
-_EXTRACTED = {}
-
-
-def _fmu_dir(fmu_blob, digest):
-    """The FMU unpacked once per machine, keyed by its content digest (workers may be remote)."""
-    if digest in _EXTRACTED:
-        return _EXTRACTED[digest]
-    target = pathlib.Path(tempfile.gettempdir()) / f"plateimpact-fmu-{digest[:16]}"
-    if not (target / "modelDescription.xml").exists():
-        staging = pathlib.Path(tempfile.mkdtemp(prefix="plateimpact-fmu-"))
-        with zipfile.ZipFile(io.BytesIO(fmu_blob)) as archive:
-            archive.extractall(staging)
-        try:
-            os.rename(staging, target)  # atomic; another process may have won the race
-        except OSError:
-            shutil.rmtree(staging, ignore_errors=True)
-    _EXTRACTED[digest] = str(target)
-    return str(target)
-
-
 def run_one(fmu_blob, digest, start_values, stop_time):
     """Simulates one parameter set, communicating at every internal step, and returns its summary
     (a dict of plain Python values) and the wall time."""
     import fmpy
 
     step = float(start_values.get("solver.time_step", 1e-4))
-    directory = _fmu_dir(fmu_blob, digest)
+    directory = fmu_dir(fmu_blob, digest)
     t0 = time.perf_counter()
     result = fmpy.simulate_fmu(directory, start_values=dict(start_values), stop_time=stop_time,
                                output_interval=step, output=OUTPUTS)
@@ -219,7 +194,7 @@ def continuation_run(fmu_blob, digest, start_values, frequencies, amplitude, set
     from fmpy.fmi2 import FMU2Slave
     from fmpy.simulation import apply_start_values
 
-    directory = _fmu_dir(fmu_blob, digest)
+    directory = fmu_dir(fmu_blob, digest)
     md = read_model_description(directory)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     h = step or float(start_values.get("solver.time_step", 1e-4))
@@ -381,60 +356,6 @@ def continuation(fmu_path, frequencies, *, amplitude, fixed=None, param_grid=Non
 
 def _params_text(params):
     return "".join(f" {k}={v}" for k, v in params)
-
-
-def run_tasks(fmu_path, tasks, client, describe=None):
-    """Calls function(fmu_blob, digest, *args) for each task (key, function, args), serially when
-    client is None, else as Dask tasks (the FMU scattered to the workers once). Returns
-    {key: result}; each function returns (result, wall time). With `describe`, prints
-    describe(key, result) and the wall time as each task finishes, and the total at the end."""
-    fmu_blob = pathlib.Path(fmu_path).read_bytes()
-    digest = hashlib.sha256(fmu_blob).hexdigest()
-    done = {}
-    started = time.perf_counter()
-
-    def report(key, result, wall):
-        done[key] = result
-        if describe:
-            print(f"[{len(done):>{len(str(len(tasks)))}}/{len(tasks)}] {describe(key, result)} "
-                  f"({wall:.2f} s)", file=sys.stderr, flush=True)
-
-    if client is None:
-        for key, function, args in tasks:
-            report(key, *function(fmu_blob, digest, *args))
-    else:
-        from distributed import as_completed
-        _ship_this_module(client)
-        blob = client.scatter(fmu_blob, broadcast=True)
-        futures = {client.submit(function, blob, digest, *args, pure=False): key
-                   for key, function, args in tasks}
-        for future in as_completed(futures):
-            report(futures[future], *future.result())
-    if describe:
-        print(f"{len(tasks)} tasks in {time.perf_counter() - started:.1f} s", file=sys.stderr)
-    return done
-
-
-def _ship_this_module(client):
-    """Lets workers, local or remote, run this file's tasks. Run as a script its functions live in
-    __main__ and Dask pickles them by value; imported (as the tests do) they are pickled by
-    reference to this module, which the workers then need: upload_file sends it to each of them
-    (and to the scheduler, which runs in this process on a LocalCluster)."""
-    if __name__ != "__main__":
-        client.upload_file(__file__, load=False)  # load=True would reload it in this process too
-
-
-def local_cluster(workers):
-    """A LocalCluster of single-threaded worker processes (one FMU run each at a time).
-
-    The workers' statistical profiler is off: it samples the task thread's Python stack every
-    10 ms, and fmpy's per-step loop is Python, so with it on 2 workers on 2 cores were no faster
-    than one serial process (measured: 8.5 s against 7.8 s; 5.1 s with it off)."""
-    import dask
-    from distributed import LocalCluster
-    with dask.config.set({"distributed.worker.profile.enabled": False}):
-        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None)
 
 
 def natural_frequencies(values, count=6):
@@ -601,21 +522,6 @@ def plot(rows, modes_by_params, path, title):
 # ----------------------------------------------------------------------------------------------
 # Command line
 
-def parse_value(name, text, variables):
-    kind = variables[name].type if name in variables else None
-    if kind is None:
-        raise SystemExit(f"{name} is not a variable of the FMU")
-    if kind == "Boolean":
-        if text.lower() not in ("true", "false", "1", "0"):
-            raise SystemExit(f"{name} is Boolean: true or false, not {text}")
-        return text.lower() in ("true", "1")
-    if kind == "Enumeration":
-        return ELEMENT[text] if text in ELEMENT else int(text)
-    if kind == "Integer":
-        return int(text)
-    return float(text)
-
-
 def parse_frequencies(text):
     if ":" in text:
         start, stop, step = (float(x) for x in text.split(":"))
@@ -693,15 +599,7 @@ def main(argv=None):
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    client = cluster = None
-    if args.scheduler:
-        from distributed import Client
-        client = Client(args.scheduler)
-    elif not args.serial:
-        from distributed import Client
-        cluster = local_cluster(args.workers)
-        client = Client(cluster)
-    try:
+    with dask_client(args.scheduler, args.workers, args.serial) as client:
         where = (f"scheduler {args.scheduler}" if args.scheduler else
                  "serial" if args.serial else f"LocalCluster, {args.workers} workers")
         print(f"{'continuation' if args.continuation else 'sweep'}: {len(frequencies)} frequencies"
@@ -715,11 +613,6 @@ def main(argv=None):
             fixed["base.amplitude"] = args.amplitude
             rows = sweep(args.fmu, frequencies, fixed=fixed, param_grid=grid, configs=configs,
                          stop_time=args.stop_time, client=client)
-    finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
 
     modes = {}
     if not args.no_modes:

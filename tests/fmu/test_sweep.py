@@ -10,6 +10,9 @@ import pytest
 
 from conftest import ROOT
 
+sys.path.insert(0, str(ROOT / "examples"))  # its shared module fmu_dask
+from fmu_dask import local_cluster  # noqa: E402
+
 spec = importlib.util.spec_from_file_location("frequency_sweep",
                                               ROOT / "examples" / "studies" / "frequency_sweep.py")
 frequency_sweep = importlib.util.module_from_spec(spec)
@@ -30,7 +33,7 @@ def test_dask_sweep_equals_serial_bit_for_bit(fmu_path):
     frequencies = [30.0, 40.0, 50.0, 60.0]
     kwargs = dict(fixed=fixed, configs=("obstacles",), stop_time=0.2, progress=False)
     serial = frequency_sweep.sweep(fmu_path, frequencies, **kwargs)
-    with frequency_sweep.local_cluster(2) as cluster, distributed.Client(cluster) as client:
+    with local_cluster(2) as cluster, distributed.Client(cluster) as client:
         parallel = frequency_sweep.sweep(fmu_path, frequencies, client=client, **kwargs)
     assert [r["base.frequency"] for r in parallel] == frequencies
     assert all(r["impacts"] > 0 for r in serial)
@@ -142,7 +145,7 @@ def test_dask_continuation_equals_serial(fmu_path):
     distributed = pytest.importorskip("distributed")
     kwargs = dict(amplitude=0.005, fixed=dict(COARSE), settle=0.1, measure=0.1, progress=False)
     serial = frequency_sweep.continuation(fmu_path, [50.0, 60.0], **kwargs)
-    with frequency_sweep.local_cluster(2) as cluster, distributed.Client(cluster) as client:
+    with local_cluster(2) as cluster, distributed.Client(cluster) as client:
         parallel = frequency_sweep.continuation(fmu_path, [50.0, 60.0], client=client, **kwargs)
     assert parallel == serial
     assert any(r["impacts_per_period"] > 0 for r in serial if r["config"] == "obstacles")

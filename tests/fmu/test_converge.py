@@ -1,0 +1,180 @@
+"""scripts/converge (examples/converge.py, docs/converge/README.md): on a damped scene it
+converges and its recommended value agrees with a finer reference run within the tolerance; on the
+undamped paper scene with a small budget it says "not converged" rather than a number; and against
+a separately started `dask scheduler` with `dask worker` processes it writes the runs the local
+cluster does.
+
+Scene and windows are small so that each study costs a few CPU seconds: the damped preset
+forced-35hz-damped (β = 5.913e-5 s, ζ_hf = 0.296 at Δt = 1e-4 s) on the Argyris 2 × 1 mesh,
+0.5 s of transient (about 5 decay times 1/(ζ₁ω₁) = 0.1 s of its first mode) and 4 windows of
+0.2 s (7 forcing periods each)."""
+
+import csv
+import hashlib
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "examples"))
+import converge  # noqa: E402
+
+TOLERANCE = 0.01
+WINDOWS = ["--transient", "0.5", "--window", "0.2", "--windows", "4"]
+DAMPED = ["--scene", str(ROOT / "scenes" / "forced-35hz-damped.json"), "mesh.nx=2", "mesh.ny=1"]
+QUANTITIES = ["mean_energy", "rms_corner"]
+
+
+def study(fmu_path, out, *args):
+    """Runs scripts/converge; returns its last stdout line."""
+    command = [str(ROOT / "scripts" / "converge"), "--out", str(out), "--fmu", fmu_path, *WINDOWS,
+               *args]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip().splitlines()[-1]
+
+
+def damped_args():
+    return [*(a for q in QUANTITIES for a in ("--quantity", q)), "--tolerance", str(TOLERANCE),
+            "--budget-seconds", "60", "--mesh", *DAMPED]
+
+
+def runs(path):
+    """runs.csv without its CPU time column, the one thing that depends on where runs ran."""
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    for row in rows:
+        del row["cpu_s"]
+    return rows
+
+
+@pytest.fixture(scope="module")
+def local_study(fmu_path, tmp_path_factory):
+    out = tmp_path_factory.mktemp("converge-local")
+    return study(fmu_path, out, *damped_args()), out
+
+
+def test_damped_scene_converges_to_a_finer_reference(fmu_path, local_study):
+    line, out = local_study
+    assert line.startswith("converged: "), line
+    settings = dict(item.split("=") for item in line.split("settings ")[1].split(";")[0].split())
+    values = {q: float(line.split(f"{q} = ")[1].split()[0]) for q in QUANTITIES}
+    for name in ("report.md", "runs.csv", "work_precision.png"):
+        assert (out / name).stat().st_size > 0
+    # The reference: a setting finer than any the study ran, in mesh (×2) and in Δt (/4), read
+    # at the study's output interval h, the scene's (and the ladder's first) Δt.
+    nx, ny = int(settings["mesh.nx"]), int(settings["mesh.ny"])
+    dt = float(settings["solver.time_step"])
+    scene = converge.load_scene(ROOT / "scenes" / "forced-35hz-damped.json")
+    h = scene["solver.time_step"]
+    scene.update({"mesh.element": 1, "mesh.nx": 2 * nx, "mesh.ny": 2 * ny,
+                  "solver.time_step": dt / 4})
+    blob = open(fmu_path, "rb").read()
+    result, _ = converge.run_setting(blob, hashlib.sha256(blob).hexdigest(), scene, h,
+                                     round(0.5 / h), round(0.2 / h), 4)
+    for q in QUANTITIES:
+        reference, _ = converge.value_and_spread(q, result["windows"][q])
+        assert abs(values[q] - reference) <= TOLERANCE * abs(reference), (q, values[q], reference)
+
+
+def test_undamped_paper_scene_with_a_small_budget_is_not_converged(fmu_path, tmp_path):
+    """The paper's forced 35 Hz scene (Argyris 10 × 7, no damping): its mean energy grows by tens
+    of per cent at each halving of Δt (docs/accuracy/damping.md), so 3 CPU s (a run costs about
+    0.4 s at Δt = 1e-4 s, doubling at each halving) end the study before any pair agrees."""
+    line = study(fmu_path, tmp_path, "--quantity", "mean_energy", "--quantity", "impact_rate",
+                 "--tolerance", str(TOLERANCE), "--budget-seconds", "3",
+                 "--scene", str(ROOT / "scenes" / "forced-35hz.json"))
+    assert line.startswith("not converged: "), line
+    assert "budget" in line and "stiffness-proportional damping" in line, line
+    assert "docs/accuracy/damping.md" in line, line
+    report = (tmp_path / "report.md").read_text()
+    assert "Advice:" in report and "not converged" in report
+    assert len(runs(tmp_path / "runs.csv")) >= 2 * 2  # two settings at least, two quantities
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_separate_scheduler_and_workers_give_the_local_runs(fmu_path, local_study, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    dask = shutil.which("dask", path=os.path.dirname(sys.executable)) or shutil.which("dask")
+    assert dask, "the dask command line (dask.distributed) is not installed"
+    address = f"tcp://127.0.0.1:{free_port()}"
+    port = address.rsplit(":", 1)[1]
+    processes = []
+    try:
+        processes.append(subprocess.Popen(
+            [dask, "scheduler", "--host", "127.0.0.1", "--port", port, "--no-dashboard"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
+        processes.append(subprocess.Popen(
+            [dask, "worker", address, "--nworkers", "2", "--nthreads", "1", "--no-dashboard",
+             "--local-directory", str(tmp_path / "workers")],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
+        deadline = time.monotonic() + 120
+        while True:  # the scheduler takes a moment to listen
+            try:
+                with distributed.Client(address, timeout=10) as client:
+                    client.wait_for_workers(2, timeout=max(1, deadline - time.monotonic()))
+                break
+            except OSError:
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(0.5)
+        line = study(fmu_path, tmp_path / "out", *damped_args(), "--scheduler", address)
+    finally:
+        for process in reversed(processes):
+            os.killpg(process.pid, signal.SIGTERM)
+        for process in processes:
+            try:
+                process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+    local_line, local_out = local_study
+    assert line.split("; cost")[0] == local_line.split("; cost")[0]
+    assert runs(tmp_path / "out" / "runs.csv") == runs(local_out / "runs.csv")
+
+
+def test_zeta_hf_matches_the_damping_study():
+    """ζ_hf as docs/accuracy/damping.md tabulates it (3 digits there): the preset's β alone at
+    Δt = 1e-4 s, and the Rayleigh pair ζ = 1 % at 53.83 Hz and 5 kHz at Δt = 1e-4 and 1e-6 s."""
+    assert round(converge.zeta_hf(0.0, 5.913e-5, 0.0, 1e-4), 3) == 0.296
+    assert round(converge.zeta_hf(6.692, 6.298e-7, 0.0, 1e-4), 4) == 0.0035
+    assert round(converge.zeta_hf(6.692, 6.298e-7, 0.0, 1e-6), 3) == 0.315
+    assert converge.zeta_hf(6.692, 0.0, 0.01, 1e-6) == 0.01  # no β: the modal ratio alone
+
+
+def test_window_values_split_the_samples_and_the_counts():
+    """Two windows of 2 steps of 0.5 s: each holds the samples after its own steps, the impacts of
+    the steps ending in it, and the change of the cumulative losses across it."""
+    reals = np.zeros((5, len(converge.REALS)))
+    reals[:, 0] = [9.0, 3.0, -4.0, 1.0, 1.0]  # corner1: the first sample precedes the windows
+    reals[:, 1] = [0.0, 0.0, 5.0, 0.0, -2.0]  # corner2
+    reals[:, 2] = [7.0, 1.0, 3.0, 5.0, 5.0]  # energy.total
+    reals[:, 3] = [0.0, 1.0, 2.0, 4.0, 8.0]  # energy.damping_loss
+    reals[:, 4] = [1.0, 1.0, 1.0, 1.0, 3.0]  # energy.contact_loss
+    reals[:, 5] = [0.0, 3.0, 4.0, 0.0, 0.0]  # base.mean_force
+    impacts = np.array([5, 1, 0, 0, 2])
+    w = converge.window_values(reals, impacts, 1.0, 2)
+    assert w["mean_energy"] == [2.0, 5.0]
+    assert w["rms_corner"] == [np.sqrt(12.5), 1.0]
+    assert w["peak_corner"] == [5.0, 2.0]
+    assert w["rms_base_force"] == [np.sqrt(12.5), 0.0]
+    assert w["damping_loss_rate"] == [2.0, 6.0]
+    assert w["contact_loss_rate"] == [0.0, 2.0]
+    assert w["impact_rate"] == [1.0, 2.0]
+    # The peak: the largest window's, spread of the window peaks; the others: the mean, σ/√K.
+    assert converge.value_and_spread("peak_corner", [5.0, 2.0]) == (5.0, np.std([5, 2], ddof=1))
+    assert converge.value_and_spread("impact_rate", [1.0, 2.0]) == (
+        1.5, np.std([1, 2], ddof=1) / np.sqrt(2))
