@@ -13,7 +13,7 @@ strikes the obstacles at +-10 mm about twice per period, and the impacts show in
 The master (fmpy's FMU2Slave, communication points t_k = k h) splits the plate's force as
 F_b = -m_p x'' + R: the inertia of the plate moving with the shaker (m_p = rho e Lx Ly, what a rigid
 plate exerts), which the shaker carries implicitly, as mass (an interface-Jacobian, or added-mass,
-correction), and the rest R, the plate's elastic, damping and contact reaction. Three couplings
+correction), and the rest R, the plate's elastic, damping and contact reaction. Four couplings
 (--coupling):
 
 * instantaneous: x(t_k), x'(t_k), x''(t_k) to `base.displacement` (fmi2SetRealInputDerivatives),
@@ -30,6 +30,13 @@ correction), and the rest R, the plate's elastic, damping and contact reaction. 
 * iterated: as mean, then the plate is put back (fmi2SetFMUstate) and steps again on the quadratic
   from the shaker's new motion, the shaker again under the new reaction, and so on (secant steps on
   R) until R changes by less than 1e-12 of itself; then both are kept. Second order in h.
+* moments: as iterated, but the shaker gets the line R + beta (s - c) that has both the impulse and
+  the first moment M = sum_n R_n (t_n - c) dt of the plate's reaction about the window's centre c
+  (beta = 12 M / h^3), so that the force's variation within the step works on the shaker as it
+  does on the plate. The FMU has no output for M: here the plate steps through each communication
+  step in calls of one internal step (the same quadratic, sampled at each t_n) and M is summed from
+  their base.mean_force, an instrument that stands in for such an output (and costs h/dt calls).
+  Fixed-point steps on the slope, until it changes by less than 1e-12 of R.
 
 The constant R over a step gives the shaker exactly the impulse the plate gave its base. The work
 differs by what no single force per step can carry: the plate's base work is
@@ -37,6 +44,16 @@ sum_n (z_{n+1} - z_{n-1})/2 F_n over its internal steps, the shaker's R (x_{k+1}
 inertia's, and the two agree only while the base moves at one velocity; otherwise the variation of
 the force within the step works against the variation of the velocity, about a R' h^3 / 12 per step
 (a the base's acceleration, R' the reaction's rate; docs/fmu.md, "Coupling both ways").
+
+With the first moment as well (moments), the line force carries that term exactly for a base on
+the quadratic plan: sum_n F_n (z_{n+1} - z_{n-1})/2 = x'(c) J + a M + kink, with J the impulse and
+the kink F_N0 ((z_{N0+1} - z_{N0-1})/2 - x'(t_k) dt) the first internal step's force working on
+the change of acceleration at t_k (z_{N0-1} lies on the previous step's plan). What remains is the
+kink, reported as `kinks` (summed from t_1), and the shaker's own path differing from the plan it
+sent: under a force that varies within the step its motion is not a quadratic, and the plate
+follows at most a quadratic (two input derivatives). No choice of force closes both: a shaker
+whose path is exactly the plan (one unknown per step) cannot also honour the impulse and the first
+moment (two conditions), which the work on a quadratic needs.
 
 Energy. The shaker is integrated by the implicit midpoint rule (substeps of at most 10 us), whose
 discrete energy E_s = m_s v^2/2 + k_s x^2/2 obeys, per substep with dx = x_{j+1} - x_j,
@@ -61,7 +78,7 @@ t_k - dt/2, where its window ends. The last line printed is this balance.
 Usage:
     cargo run --release --bin package-fmu
     .venv/bin/python examples/shaker_coupling.py                 # iterated, h = 0.5 ms, 1 s, writes docs/coupling/
-    .venv/bin/python examples/shaker_coupling.py --compare       # the three couplings at h = 2, 1, 0.5 ms
+    .venv/bin/python examples/shaker_coupling.py --compare       # the four couplings at h = 2, 1, 0.5 ms
     .venv/bin/python examples/shaker_coupling.py --sweep         # the residual for h = 2 ms to 0.1 ms
     .venv/bin/python examples/shaker_coupling.py --state-cost    # time and size of the FMU state
     .venv/bin/python examples/shaker_coupling.py --coupling mean --h 1e-3 --stop 0.5 --no-plot
@@ -88,7 +105,7 @@ SUSPENSION_STIFFNESS = SHAKER_MASS * (2 * math.pi * 15.0) ** 2  # N/m
 SUSPENSION_DAMPING = 2 * 0.2 * math.sqrt(SUSPENSION_STIFFNESS * SHAKER_MASS)  # N s/m
 DRIVE_AMPLITUDE = 7000.0  # N
 DRIVE_FREQUENCY = 53.0  # Hz
-COUPLINGS = ("instantaneous", "mean", "iterated")
+COUPLINGS = ("instantaneous", "mean", "iterated", "moments")
 SUBSTEP = 1e-5  # s, the longest shaker substep
 
 # The plate: the paper's steel plate (the FMU's defaults) and obstacles at +-10 mm, with Rayleigh
@@ -148,6 +165,7 @@ class Interface:
     def __init__(self, plate_mass, dt):
         self.plate_mass, self.dt = plate_mass, dt
         self.grid_velocity = 0.0  # (z_N - z_{N-1}) / dt at the last communication point: at rest
+        self.previous_plan = (0.0, 0.0, 0.0)  # the plan of the last step: at rest
 
     def plan(self, x0, v0, x1, h):
         """(x_k, v_k, a_k) for a step of h from (x0, v0) to x1."""
@@ -157,6 +175,16 @@ class Interface:
         """(z_N - z_{N-1}) / dt at the end of a step of h along `plan`: v_k + a_k (h - dt/2)."""
         _, v0, a = plan
         return v0 + a * (h - 0.5 * self.dt)
+
+    def rest_moment(self, moment, plan, h):
+        """The first moment of the reaction R about the window's centre c, sum_n R_n (t_n - c) dt,
+        from the force's: R_n = F_n + m_p (z_{n+1} - 2 z_n + z_{n-1}) / dt^2, whose rigid part sums
+        by parts to m_p [(s_N1 + s_N0) (h - dt)/2 - (z_{N1-1} - z_{N0})], s the grid velocities
+        before and after the step."""
+        x0, v0, a = plan
+        tail = h - self.dt
+        moved = v0 * tail + 0.5 * a * tail * tail
+        return moment + self.plate_mass * ((self.end_velocity(plan, h) + self.grid_velocity) * 0.5 * tail - moved)
 
     def rest(self, mean_force, plan, h):
         """The plate's mean reaction R over the step without its rigid inertia: the mean force plus
@@ -200,6 +228,9 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
             for name, value in zip(OUTPUTS, plate.getReal(output_vrs)):
                 out[name][k] = value
             out["contact.impacts"][k] = plate.getInteger([vr["contact.impacts"]])[0]
+            if coupling == "moments" and k > 0:
+                # The plate stepped in internal-step calls: the step's impacts and mean force are theirs.
+                out["contact.impacts"][k], out["base.mean_force"][k] = sub_step["impacts"], sub_step["mean_force"]
             out["residual"][k] = -(out["energy.base_work"][k] + shaker.plate_work)
 
         def step_plate(t, plan):
@@ -209,8 +240,34 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
             plate.doStep(currentCommunicationPoint=t, communicationStepSize=h)
             return plate.getReal([vr["base.mean_force"]])[0]
 
+        def step_plate_moments(t, plan):
+            """The plate over the step along `plan` in calls of one internal step each (the same
+            quadratic, sampled at each t_n): the mean force and the first moment of the forces about
+            the window's centre, sum_n F_n (t_n - c) dt, c = t_k + (h - dt)/2 (module docs)."""
+            x, v, a = plan
+            steps = round(h / lag)
+            forces, sub_step["impacts"] = [], 0
+            for n in range(steps):
+                tau = n * lag
+                plate.setReal([displacement], [x + v * tau + 0.5 * a * tau * tau])
+                plate.setRealInputDerivatives([displacement] * 2, [1, 2], [v + a * tau, a])
+                plate.doStep(currentCommunicationPoint=t + tau, communicationStepSize=lag)
+                forces.append(plate.getReal([vr["base.mean_force"]])[0])
+                sub_step["impacts"] += plate.getInteger([vr["contact.impacts"]])[0]
+            forces = np.array(forces)
+            sub_step["mean_force"] = float(forces.mean())
+            offsets = (np.arange(steps) - 0.5 * (steps - 1)) * lag
+            # The kink: the first force's work beyond v dt, F_N0 ((z_{N0+1} - z_{N0-1})/2 - v dt),
+            # z_{N0-1} from the previous step's plan (module docs).
+            before = interface.previous_plan
+            z_before = before[0] + before[1] * (h - lag) + 0.5 * before[2] * (h - lag) ** 2
+            kinks[k] = forces[0] * (0.5 * (x + v * lag + 0.5 * a * lag * lag - z_before) - v * lag)
+            return float(forces.mean()), float((forces * offsets).sum() * lag)
+
         record(0)
         first, sent_acceleration, last_rest = None, 0.0, None
+        kinks = np.zeros(steps)  # moments coupling: the kink term of each step (J)
+        sub_step = {}  # moments coupling: the impacts and the mean force of the last step's calls
         for k in range(steps):
             t = k * h
             if coupling == "instantaneous":
@@ -228,30 +285,43 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
                 # under the plate's mean reaction (mean). Iterated: the plate again, from its saved
                 # state, on the plan from the shaker's new run, until the reaction stops changing.
                 start = copy.copy(shaker)
-                state = plate.getFMUstate() if coupling == "iterated" else None
+                state = plate.getFMUstate() if coupling in ("iterated", "moments") else None
+                centre = t + 0.5 * (h - lag)  # of the window of the plate's forces
                 lead = 0.0 if k == 0 else 0.5 * lag  # from the shaker's time to t_k
 
-                def shaken(r):
-                    """The shaker over its window under the reaction r, and the plan of the plate's
-                    base it gives: from its motion at t_k to its landing at t_{k+1}."""
+                def shaken(r, slope=0.0):
+                    """The shaker over its window under the reaction r + slope (s - c), and the
+                    plan of the plate's base it gives: from its motion at t_k to its landing at t_{k+1}."""
                     moved = copy.copy(start)
                     if lead > 0.0:
-                        moved.advance(t - lead, lead, lambda s: r)
+                        moved.advance(t - lead, lead, lambda s: r + slope * (t - lead + s - centre))
                     at_point = moved.ahead(0.0)
-                    moved.advance(t, h - 0.5 * lag, lambda s: r)
+                    moved.advance(t, h - 0.5 * lag, lambda s: r + slope * (t + s - centre))
                     return moved, interface.plan(*at_point, moved.ahead(0.5 * lag)[0], h)
 
+                def reaction(plan):
+                    """(R, slope) of the plate's step along plan: the mean reaction and, for the
+                    moments coupling, the slope of the line with the reaction's first moment."""
+                    if coupling != "moments":
+                        return interface.rest(step_plate(t, plan), plan, h), 0.0
+                    mean, moment = step_plate_moments(t, plan)
+                    return interface.rest(mean, plan, h), 12.0 * interface.rest_moment(moment, plan, h) / h**3
+
                 plan = interface.plan(*start.ahead(lead), start.ahead(lead + h)[0], h)
-                guess = interface.rest(step_plate(t, plan), plan, h)
+                guess, slope = reaction(plan)
                 last = None  # (guess, change) of the previous iterate
                 for iteration in range(1, max_iterations + 1):
-                    shaker, plan = shaken(guess)
+                    shaker, plan = shaken(guess, slope)
                     if coupling == "mean":
                         break
                     plate.setFMUstate(state)
-                    rest = interface.rest(step_plate(t, plan), plan, h)
+                    rest, new_slope = reaction(plan)
                     change = rest - guess
-                    if abs(change) <= tolerance * max(1.0, abs(rest)):
+                    settled = abs(new_slope - slope) * h <= tolerance * max(1.0, abs(rest))
+                    slope = new_slope
+                    if abs(change) <= tolerance * max(1.0, abs(rest)) and settled:
+                        if coupling == "moments":
+                            shaker, plan = shaken(rest, slope)
                         break
                     # The next reaction: a secant step on change(guess) = 0, the plain update first.
                     following = rest
@@ -264,6 +334,7 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
                     plate.freeFMUstate(state)
                 iterations.append(iteration)
                 interface.grid_velocity = interface.end_velocity(plan, h)
+                interface.previous_plan = plan
             record(k + 1)
             if first is None:
                 first = (shaker.energy(), shaker.drive_work, shaker.damper_loss, shaker.plate_work)
@@ -285,11 +356,14 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
         "plate_damping": change("energy.damping_loss"),
     }
     balance["residual"] = -(change("energy.base_work") + (shaker.plate_work - plate_work0))
+    # Moments coupling: the part of the residual that is the kink terms (from t_1 on, as the balance).
+    balance["kinks"] = float(kinks[1:].sum()) if coupling == "moments" else None
     accounted = sum(balance[k] for k in ("shaker", "shaker_damper", "plate", "contact_loss", "plate_damping"))
     # What is left once the coupling residual is counted: the plate's own balance, to round-off.
     balance["closure"] = balance["drive"] - accounted - balance["residual"]
     balance["impacts"] = int(out["contact.impacts"].sum())
-    balance["iterations"] = (float(np.mean(iterations)), int(np.max(iterations))) if coupling == "iterated" else None
+    balance["iterations"] = ((float(np.mean(iterations)), int(np.max(iterations)))
+                             if coupling in ("iterated", "moments") else None)
     return out, balance
 
 
@@ -339,14 +413,14 @@ def plot(out, path):
 
 
 def plot_modes(runs, path):
-    """The three couplings: the coupling residual over time at the coarsest step (left) and its
+    """The couplings: the coupling residual over time at the coarsest step (left) and its
     final value against the communication step (right), as fractions of the drive's work."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colors = {"instantaneous": "tab:red", "mean": "tab:orange", "iterated": "tab:blue"}
+    colors = {"instantaneous": "tab:red", "mean": "tab:orange", "iterated": "tab:blue", "moments": "tab:green"}
     steps = sorted({h for h, _ in runs}, reverse=True)
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
     for mode in COUPLINGS:
@@ -355,7 +429,7 @@ def plot_modes(runs, path):
         left.plot(out["time"][1:], residual / b["drive"], color=colors[mode], label=mode)
         fractions = [abs(runs[(h, mode)][1]["residual"]) / runs[(h, mode)][1]["drive"] for h in steps]
         right.loglog([1e3 * h for h in steps], fractions, "o-", color=colors[mode], label=mode)
-        if mode == "iterated":
+        if mode in ("iterated", "moments"):
             for h, f in zip(steps, fractions):
                 mean, most = runs[(h, mode)][1]["iterations"]
                 right.annotate(f"{mean:.1f} it.", (1e3 * h, f), textcoords="offset points", xytext=(5, 4),
@@ -371,7 +445,7 @@ def plot_modes(runs, path):
     right.set_ylabel("|coupling residual| / drive's work")
     right.set_title(f"over {runs[(steps[0], COUPLINGS[0])][0]['time'][-1]:g} s", fontsize=10)
     right.legend(fontsize=8)
-    fig.suptitle("Plate FMU on the shaker: instantaneous base.force, base.mean_force, and iterated steps")
+    fig.suptitle("Plate FMU on the shaker: instantaneous base.force, base.mean_force, iterated, and with the force's first moment")
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=100)
@@ -429,7 +503,7 @@ def main():
     parser.add_argument("--no-plot", action="store_true")
     parser.add_argument("--sweep", action="store_true", help="the residual for h = 2 ms to 0.1 ms")
     parser.add_argument("--compare", action="store_true",
-                        help="the three couplings at h = 2, 1, 0.5 ms (table, and the plot coupling_modes.png)")
+                        help="the four couplings at h = 2, 1, 0.5 ms (table, and the plot coupling_modes.png)")
     parser.add_argument("--state-cost", action="store_true", help="time and size of the FMU state")
     args = parser.parse_args()
     if args.state_cost:
@@ -444,15 +518,16 @@ def main():
                   f"of the drive's {b['drive']:.3f} J), {b['impacts']} impacts")
     if args.compare:
         runs = {}
-        print("| h | coupling | residual (J) | of the drive's work | drive (J) | impacts | iterations (mean, max) |")
-        print("|---|---|---|---|---|---|---|")
+        print("| h | coupling | residual (J) | of the drive's work | drive (J) | impacts | iterations (mean, max) | kink terms (J) |")
+        print("|---|---|---|---|---|---|---|---|")
         for h in (2e-3, 1e-3, 5e-4):
             for mode in COUPLINGS:
                 runs[(h, mode)] = run(h, args.stop, args.fmu, mode)
                 b = runs[(h, mode)][1]
                 its = "-" if b["iterations"] is None else f"{b['iterations'][0]:.2f}, {b['iterations'][1]}"
+                kinks = "-" if b["kinks"] is None else f"{b['kinks']:+.3e}"
                 print(f"| {1e3 * h:g} ms | {mode} | {b['residual']:+.3e} | {abs(b['residual']) / b['drive']:.2e} | "
-                      f"{b['drive']:.2f} | {b['impacts']} | {its} |", flush=True)
+                      f"{b['drive']:.2f} | {b['impacts']} | {its} | {kinks} |", flush=True)
         if not args.no_plot:
             plot_modes(runs, pathlib.Path(args.out) / "coupling_modes.png")
     out, b = run(args.h, args.stop, args.fmu, args.coupling)
