@@ -26,7 +26,7 @@ is read at the communication points, every h = the ladder's first Δt):
   impact_rate        1/s  impacts per second: Σ contact.impacts (internal steps whose contact
                           set went from empty to non-empty) over a window / its length
 
-Per run, value and spread as the statistics study (examples/statistics.rs) has them: the value is
+Per run, value and spread as the statistics study (examples/studies/statistics.rs) has them: the value is
 the mean of the K window values (the peak: their maximum), the spread the standard deviation of
 the window values / √K (the peak: of the window peaks), the standard error of what one run
 reports. The check against perturbed replicas (R runs of a candidate setting whose
@@ -86,7 +86,7 @@ REALS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy
 # ζ_hf, the lightest damping ratio of the modes the scheme does not resolve (ω ≥ 1/Δt), from
 # which the impact statistics converge (docs/accuracy/damping.md, src/advice.rs).
 CONVERGED_HIGH_MODE_RATIO = 0.25
-# Replicas differ in initial.preload_pressure by this step (Pa), as in examples/statistics.rs.
+# Replicas differ in initial.preload_pressure by this step (Pa), as in examples/studies/statistics.rs.
 PERTURBATION_PA = 1e-4
 # Confidence factor on the spread of a difference (2σ: about 95 % if Gaussian).
 SIGMAS = 2.0

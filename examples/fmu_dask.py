@@ -1,5 +1,5 @@
 """Running the packaged PlateImpact FMU as Dask tasks: shared by the frequency sweep
-(examples/frequency_sweep.py) and the convergence study (examples/converge.py, scripts/converge).
+(examples/studies/frequency_sweep.py) and the convergence study (examples/converge.py, scripts/converge).
 
 A task is a function called as function(fmu_blob, digest, *args) on a worker, returning
 (result, seconds). The FMU's bytes are scattered to the workers once (`run_tasks`) and unpacked
