@@ -699,13 +699,12 @@ fn study() -> Result<(), String> {
     } else {
         full_plan(args.iter().any(|a| a == "--reduced"))
     };
-    // The files of the study: statistics.csv … or damping.csv …
-    let file = |name: &str| {
-        if damping_study {
-            name.replace("statistics", "damping")
-        } else {
-            name.to_string()
-        }
+    // The files of the study: statistics.csv, meshes.csv, statistics_meta.csv, or damping.csv,
+    // damping_meshes.csv, damping_meta.csv.
+    let file = |name: &str| match (damping_study, name) {
+        (false, _) => name.to_string(),
+        (true, "statistics.csv") => "damping.csv".to_string(),
+        (true, _) => format!("damping_{}", name.trim_start_matches("statistics_")),
     };
     let forcings = value_of("--forcings")?;
     if let Some(kind) = &forcings {

@@ -41,6 +41,7 @@ QUANTITIES = {
     "contact_loss_per_period_J": ("energy removed at the obstacles per period", "J", 1.0),
     "mean_energy_J": ("mean energy.total", "J", 1.0),
     "mean_abs_base_force_N": ("mean |base.force|", "kN", 1e-3),
+    "rms_base_force_N": ("RMS base.force", "kN", 1e-3),
     "first_impact_s": ("first impact", "ms", 1e3),
     "energy_0.1s_J": ("energy at 0.1 s", "J", 1.0),
     "energy_0.3s_J": ("energy at 0.3 s", "J", 1.0),
