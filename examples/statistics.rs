@@ -10,7 +10,8 @@
 //! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
 //! ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the `energy` scene, the
 //! forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs those meshes only and
-//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them). Trailing
+//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them), `--windows K` K ≥ 2
+//! windows instead of the plan's (a cheaper run of a periodic steady state). Trailing
 //! `name=value` arguments set scene parameters (the FMU variable names, [`Scene::set`]) of every
 //! run, after the study's own settings: `damping.stiffness_proportional=5.913e-5` or
 //! `damping.ratio=0.01 damping.frequency_low=53.8 damping.frequency_high=5000` with `--forcings
@@ -56,7 +57,7 @@
 
 mod common;
 
-use common::{element_name, exit_code, StudyDir};
+use common::{element_name, exit_code, positive_integer, StudyDir};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
@@ -733,6 +734,13 @@ fn study() -> Result<(), String> {
     if let Some(list) = &meshes {
         plan.meshes = parse_meshes(list)?;
     }
+    let windows = value_of("--windows")?;
+    if windows.is_some() {
+        plan.windows = positive_integer("--windows", windows.clone())?;
+        if plan.windows < 2 {
+            return Err("--windows needs at least 2 windows (the spread)".into());
+        }
+    }
     let steps = value_of("--dt")?;
     if let Some(list) = &steps {
         plan.ladder = list
@@ -765,6 +773,7 @@ fn study() -> Result<(), String> {
     }
     let partial = forcings.is_some()
         || models.is_some()
+        || windows.is_some()
         || meshes.is_some()
         || steps.is_some()
         || !overrides.is_empty()
