@@ -1001,9 +1001,14 @@ fn study() -> Result<(), String> {
     }
     dir.write(&file("statistics_meta.csv"), &meta)?;
     if partial {
+        let script = if damping_study {
+            "damping_plots.py"
+        } else {
+            "statistics_plots.py"
+        };
         eprintln!(
             "partial study done in {total_s:.1} s: concatenate its CSVs with the other parts', \
-             then run examples/statistics_plots.py on them"
+             then run examples/{script} on them"
         );
         return Ok(());
     }
