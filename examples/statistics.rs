@@ -5,6 +5,12 @@
 //!
 //! `cargo run --release --example statistics [-- --quick | --reduced] [--out DIR]`
 //!
+//! `--study damping` runs the damping study instead ([`damping_plan`]): the undamped forcings
+//! with each damping model of [`damping_models`] (`--damping LABEL,LABEL` keeps those), written to
+//! `damping.csv` (the columns of `statistics.csv` plus `damping` after `scene`),
+//! `damping_meshes.csv` and `damping_meta.csv`, then `examples/damping_plots.py` writes the plots
+//! and the generated part of `docs/accuracy/damping.md`. The other options below apply alike.
+//!
 //! A part of the study, to share it between processes (`--out` to separate directories; the
 //! CSVs are then concatenated and `examples/statistics_plots.py DIR` run on the result): `--forcings
 //! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
@@ -29,7 +35,8 @@
 //! obstacles bound it), impacts per forcing period (`StepReport::impact`: the contact set went
 //! from empty to non-empty), the energy removed at the obstacles per period (Σ
 //! `EnergyFlows::contact_loss`), the mean of `energy.total` and of |`base.force`|
-//! (`StepReport::base_force`). Reports and flows are read at every step; the corner and the
+//! (`StepReport::base_force`) and the RMS of `base.force`, √(Σ F_n²/N) over the window's N steps
+//! (what loads the supporting structure). Reports and flows are read at every step; the corner and the
 //! energy, which cost an output evaluation, every step up to Δt = 1e-5 s and every 1e-5 s below
 //! (at least 2.9·10⁵ samples a run, so the sampling adds nothing measurable to the spread).
 //! Per `energy` run: the time of the first impact, the energy at 0.1 s and 0.3 s and the impacts
