@@ -178,6 +178,24 @@ def table(study, scene):
     return lines
 
 
+def contact_loss_table(study, model):
+    """Energy removed at the obstacles per period (J): one row per mesh, one column per Δt."""
+    q = "contact_loss_per_period_J"
+    runs = [r for s in SCENES for r in study.select(f"{s}/{model}", q)]
+    steps = sorted({r["dt"] for r in runs}, reverse=True)
+    lines = [f"#### Energy removed at the obstacles per period (J), {MODEL_TITLES[model]}", "",
+             "| scene | mesh | " + " | ".join(f"Δt = {dt:g} s" for dt in steps) + " |",
+             "|---|---|" + "---|" * len(steps)]
+    for scene in SCENES:
+        for mesh in study.mesh_keys:
+            by_dt = {r["dt"]: r for r in study.select(f"{scene}/{model}", q, mesh)}
+            if by_dt:
+                cells = [sp.number(by_dt[dt]["value"], 4) if dt in by_dt else "" for dt in steps]
+                lines.append(f"| {SCENE_SHORT[scene]} | {sp.mesh_name(mesh)} | "
+                             + " | ".join(cells) + " |")
+    return lines
+
+
 def contact_loss_plot(study, out):
     """Contact loss per period against Δt, per mesh, one panel per (scene, model)."""
     models = [m for m in ("beta", "rayleigh-1k", "rayleigh-5k", "rayleigh-20k")
@@ -230,6 +248,9 @@ def main():
     for scene in SCENES:
         if any(s.startswith(scene + "/") for s in study.scenes):
             generated += table(study, scene) + [""]
+    for model in ("beta", "rayleigh-5k"):
+        if any(f"{s}/{model}" in study.scenes for s in SCENES):
+            generated += contact_loss_table(study, model) + [""]
     generated.append(END)
     page = out / "damping.md"
     text = page.read_text() if page.exists() else f"# Damping study\n\n{BEGIN}\n{END}\n"

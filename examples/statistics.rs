@@ -16,7 +16,8 @@
 //! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
 //! ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the `energy` scene, the
 //! forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs those meshes only and
-//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them), `--windows K` K ≥ 2
+//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them, whatever the
+//! damping model's smallest Δt), `--windows K` K ≥ 2
 //! windows instead of the plan's (a cheaper run of a periodic steady state). Trailing
 //! `name=value` arguments set scene parameters (the FMU variable names, [`Scene::set`]) of every
 //! run, after the study's own settings: `damping.stiffness_proportional=5.913e-5` or
@@ -838,8 +839,10 @@ fn study() -> Result<(), String> {
     } else {
         "quantity,scene,element,nx,ny,dt,omega_max_dt,value,spread,wall_s\n"
     });
-    // The smallest Δt of a mesh, for a damping model of the damping study.
+    // The smallest Δt of a mesh, for a damping model of the damping study unless `--dt` names
+    // the time steps.
     let lowest = |m: &MeshPlan, model: Option<&DampingModel>| {
+        let model = model.filter(|_| steps.is_none());
         model.map_or(m.dt_min, |d| d.dt_min(m)) * (1.0 - 1e-9)
     };
     let runs_at = |m: &MeshPlan, model| {
