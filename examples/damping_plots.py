@@ -238,8 +238,9 @@ def main():
         panels = [s for m in MODELS for s in (f"{sc}/{m}" for sc in SCENES) if s in study.scenes
                   and study.select(s, q, FINEST)]
         if panels:
+            # 14 panels: a lower resolution keeps each file near 0.5 MB, still legible.
             sp.work_precision(study, out, panels, [q] * len(panels), f"damping_wp_{q}.png",
-                              f"Work-precision per damping model: {sp.md_name(q)}")
+                              f"Work-precision per damping model: {sp.md_name(q)}", dpi=75)
     contact_loss_plot(study, out)
     generated = [BEGIN, "",
                  f"Runs: {len(study.rows) // len(set(r['quantity'] for r in study.rows))}, "

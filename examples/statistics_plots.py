@@ -162,7 +162,7 @@ def with_spread(quantity, r):
 # ----------------------------------------------------------------------------------------------
 # Plots
 
-def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title):
+def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title, dpi=100):
     """Error against wall time, one panel per (scene, quantity)."""
     n = len(scenes_of_panels)
     cols = 2 if n > 1 else 1
@@ -211,7 +211,7 @@ def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title
     fig.suptitle(title + " (bars: 2σ of the difference; labels: Δt of the first and last run "
                  "of each mesh)", fontsize=9)
     fig.tight_layout()
-    fig.savefig(out / name, dpi=100)
+    fig.savefig(out / name, dpi=dpi)
     plt.close(fig)
 
 
