@@ -5,12 +5,22 @@
 //!
 //! `cargo run --release --example statistics [-- --quick | --reduced] [--out DIR]`
 //!
+//! `--study damping` runs the damping study instead ([`damping_plan`]): the undamped forcings
+//! with each damping model of [`damping_models`] (`--damping LABEL,LABEL` keeps those), written to
+//! `damping.csv` (the columns of `statistics.csv` plus `damping` after `scene`),
+//! `damping_meshes.csv` and `damping_meta.csv`, then `examples/studies/damping_plots.py` writes the plots
+//! and the generated part of `docs/accuracy/damping.md`. The other options below apply alike;
+//! with `--quick`, every model on Argyris 2 × 1 at Δt = 1e-4 and 1e-5 s on `forced-35hz` (about
+//! 2 s), in a temporary directory, checks the pipeline.
+//!
 //! A part of the study, to share it between processes (`--out` to separate directories; the
 //! CSVs are then concatenated and `examples/studies/statistics_plots.py DIR` run on the result): `--forcings
 //! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
 //! ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the `energy` scene, the
 //! forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs those meshes only and
-//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them). Trailing
+//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them, whatever the
+//! damping model's smallest Δt), `--windows K` K ≥ 2
+//! windows instead of the plan's (a cheaper run of a periodic steady state). Trailing
 //! `name=value` arguments set scene parameters (the FMU variable names, [`Scene::set`]) of every
 //! run, after the study's own settings: `damping.stiffness_proportional=5.913e-5` or
 //! `damping.ratio=0.01 damping.frequency_low=53.8 damping.frequency_high=5000` with `--forcings
@@ -28,7 +38,8 @@
 //! obstacles bound it), impacts per forcing period (`StepReport::impact`: the contact set went
 //! from empty to non-empty), the energy removed at the obstacles per period (Σ
 //! `EnergyFlows::contact_loss`), the mean of `energy.total` and of |`base.force`|
-//! (`StepReport::base_force`). Reports and flows are read at every step; the corner and the
+//! (`StepReport::base_force`) and the RMS of `base.force`, √(Σ F_n²/N) over the window's N steps
+//! (what loads the supporting structure). Reports and flows are read at every step; the corner and the
 //! energy, which cost an output evaluation, every step up to Δt = 1e-5 s and every 1e-5 s below
 //! (at least 2.9·10⁵ samples a run, so the sampling adds nothing measurable to the spread).
 //! Per `energy` run: the time of the first impact, the energy at 0.1 s and 0.3 s and the impacts
@@ -57,7 +68,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-use common::{element_name, exit_code, StudyDir};
+use common::{element_name, exit_code, positive_integer, StudyDir};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
@@ -119,6 +130,97 @@ const FORCINGS: [Forcing; 4] = [
     },
 ];
 
+/// A damping model of the damping study (`--study damping`): its label in `damping.csv` and the
+/// scene parameters that set it, applied on the undamped forcings before the command line's.
+#[derive(Clone, Debug)]
+struct DampingModel {
+    label: &'static str,
+    settings: Vec<(&'static str, String)>,
+    /// The model runs the Δt ≥ this (s) only (with the mesh's own bound).
+    dt_min: f64,
+    /// The same on the study's costliest mesh, Argyris 14 × 10 (s).
+    dt_min_costliest: f64,
+}
+
+impl DampingModel {
+    /// The smallest Δt (s) the model runs on `mesh`, with the mesh's own bound.
+    fn dt_min(&self, mesh: &MeshPlan) -> f64 {
+        let own = if mesh.element == ElementKind::Argyris && mesh.mesh == (14, 10) {
+            self.dt_min_costliest
+        } else {
+            self.dt_min
+        };
+        own.max(mesh.dt_min)
+    }
+}
+
+/// The damping models of the damping study, all ζ = 1 % on the first mode of the paper's plate,
+/// ω₁ (rad/s) of the Argyris 10 × 7 mesh, f₁ = ω₁/2π:
+/// - `none`: the paper's undamped plate;
+/// - `alpha`: mass-proportional α = 2ζω₁ (ζ_k = α/2ω_k, vanishing on the high modes);
+/// - `beta`: stiffness-proportional β = 2ζ/ω₁ (ζ_k = βω_k/2, growing with the mode);
+/// - `rayleigh-1k`, `-5k`, `-20k`: the Rayleigh pair with ζ = 1 % at f₁ and at 1, 5, 20 kHz
+///   (`damping.ratio`, `damping.frequency_low`, `damping.frequency_high`);
+/// - `modal`: ζ_m = 1 % on every mode (`damping.modal_ratio`).
+///
+/// Each model runs every mesh down to Δt = 1e-6 s. `beta` and `rayleigh-5k`, the models whose
+/// contact loss the study follows, run the coarse meshes further (to the plan's 1e-7 s). The
+/// models that leave the high modes lightly damped at 1e-6 s (ζ_hf < 0.1: `none`, `alpha`,
+/// `modal`, `rayleigh-20k`) stop at 1e-5 s on the costliest mesh, Argyris 14 × 10: refining
+/// only brings in more of those modes, and the run would cost a fifth of the study.
+fn damping_models(omega1: f64) -> Vec<DampingModel> {
+    let f1 = omega1 / (2.0 * std::f64::consts::PI);
+    let model =
+        |label, settings: Vec<(&'static str, String)>, dt_min, dt_min_costliest| DampingModel {
+            label,
+            settings,
+            dt_min,
+            dt_min_costliest,
+        };
+    let pair = |label, high: f64, dt_min, dt_min_costliest| {
+        model(
+            label,
+            vec![
+                ("damping.ratio", ZETA1.to_string()),
+                ("damping.frequency_low", format!("{f1:.6}")),
+                ("damping.frequency_high", high.to_string()),
+            ],
+            dt_min,
+            dt_min_costliest,
+        )
+    };
+    vec![
+        model("none", vec![], 1e-6, 1e-5),
+        model(
+            "alpha",
+            vec![(
+                "damping.mass_proportional",
+                format!("{:.6}", 2.0 * ZETA1 * omega1),
+            )],
+            1e-6,
+            1e-5,
+        ),
+        model(
+            "beta",
+            vec![(
+                "damping.stiffness_proportional",
+                format!("{:.6e}", 2.0 * ZETA1 / omega1),
+            )],
+            0.0,
+            1e-6,
+        ),
+        pair("rayleigh-1k", 1e3, 1e-6, 1e-6),
+        pair("rayleigh-5k", 5e3, 0.0, 1e-6),
+        pair("rayleigh-20k", 2e4, 1e-6, 1e-5),
+        model(
+            "modal",
+            vec![("damping.modal_ratio", ZETA1.to_string())],
+            1e-6,
+            1e-5,
+        ),
+    ]
+}
+
 /// A mesh of the study and the smallest Δt it runs.
 #[derive(Clone, Copy, Debug)]
 struct MeshPlan {
@@ -129,8 +231,10 @@ struct MeshPlan {
 
 /// What the study runs.
 struct Plan {
-    /// `full`, `reduced` or `quick`, recorded in `statistics_meta.csv`.
+    /// `full`, `reduced`, `quick` or `damping`, recorded in `statistics_meta.csv`.
     name: &'static str,
+    /// The damping models each forcing runs with (`--study damping`); none: the forcing's own.
+    dampings: Vec<DampingModel>,
     forcings: Vec<Forcing>,
     meshes: Vec<MeshPlan>,
     /// Δt levels, decreasing; a mesh runs those ≥ its `dt_min`.
@@ -169,6 +273,7 @@ fn full_plan(reduced: bool) -> Plan {
     let (argyris_10x7, fvs_14x10) = if reduced { (2e-7, 1e-6) } else { (1e-7, 5e-7) };
     Plan {
         name: if reduced { "reduced" } else { "full" },
+        dampings: Vec::new(),
         forcings: FORCINGS.to_vec(),
         // Each mesh down to ω_max·Δt ≤ 1 (two levels below where that is cheap), except FVS 14 × 10,
         // stopped at 5e-7 s (ω_max·Δt = 1.2) to bound the study's time.
@@ -195,10 +300,44 @@ fn full_plan(reduced: bool) -> Plan {
     }
 }
 
+/// The damping study: the undamped forcings with each of [`damping_models`] (set by
+/// [`study`] once ω₁ is known), Argyris 2 × 1 … 14 × 10 and FVS 7 × 5, 14 × 10 at Δt = 1e-4,
+/// 1e-5, 1e-6 s, the two coarsest Argyris meshes down to 1e-7 s (ω_max·Δt = 0.02 and 0.07) for
+/// the models that go there. No `energy` scene, no replica check.
+fn damping_plan() -> Plan {
+    use ElementKind::{Argyris, Fvs};
+    let mesh = |element, mesh, dt_min| MeshPlan {
+        element,
+        mesh,
+        dt_min,
+    };
+    Plan {
+        name: "damping",
+        dampings: Vec::new(),
+        forcings: vec![FORCINGS[2], FORCINGS[3]],
+        meshes: vec![
+            mesh(Argyris, (2, 1), 1e-7),
+            mesh(Argyris, (4, 2), 1e-7),
+            mesh(Argyris, (6, 4), 1e-6),
+            mesh(Argyris, (10, 7), 1e-6),
+            mesh(Argyris, (14, 10), 1e-6),
+            mesh(Fvs, (7, 5), 1e-6),
+            mesh(Fvs, (14, 10), 1e-6),
+        ],
+        ladder: vec![1e-4, 1e-5, 1e-6, 1e-7],
+        transient: 1.0,
+        windows: 8,
+        window_target: 0.375,
+        replicas: 0,
+        replica_check: Vec::new(),
+    }
+}
+
 fn quick_plan() -> Plan {
     use ElementKind::{Argyris, Fvs};
     Plan {
         name: "quick",
+        dampings: Vec::new(),
         forcings: vec![FORCINGS[0]],
         meshes: vec![
             MeshPlan {
@@ -244,6 +383,7 @@ struct Window {
     impacts: usize,
     contact_loss: f64,
     base_force_abs: f64,
+    base_force_squared: f64,
     samples: usize,
     energy: f64,
     corner_squared: f64,
@@ -305,6 +445,11 @@ impl ForcedRun {
                 "mean_abs_base_force_N",
                 &|w| w.base_force_abs / w.steps as f64,
                 sum(&|w| w.base_force_abs) / steps,
+            ),
+            averaged(
+                "rms_base_force_N",
+                &|w| (w.base_force_squared / w.steps as f64).sqrt(),
+                (sum(&|w| w.base_force_squared) / steps).sqrt(),
             ),
         ]
     }
@@ -398,6 +543,7 @@ fn run_forced(
         w.impacts += usize::from(report.impact);
         w.contact_loss += report.flows.contact_loss;
         w.base_force_abs += report.base_force.abs();
+        w.base_force_squared += report.base_force * report.base_force;
         if n % stride == 0 {
             let o = stepper.outputs();
             w.samples += 1;
@@ -502,11 +648,13 @@ fn mesh_modes(element: ElementKind, mesh: (usize, usize)) -> Result<(f64, f64, u
     ))
 }
 
-/// One row of `statistics.csv` per statistic.
+/// One row of `statistics.csv` per statistic; with a damping model (the damping study), its
+/// label in a column after the scene's.
 #[allow(clippy::too_many_arguments)]
 fn rows(
     csv: &mut String,
     scene: &str,
+    damping: Option<&str>,
     element: ElementKind,
     mesh: (usize, usize),
     dt: f64,
@@ -514,6 +662,10 @@ fn rows(
     stats: &[Stat],
     wall_s: f64,
 ) {
+    let scene = match damping {
+        Some(model) => format!("{scene},{model}"),
+        None => scene.to_string(),
+    };
     for s in stats {
         writeln!(
             csv,
@@ -537,11 +689,6 @@ fn main() -> ExitCode {
 fn study() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let dir = StudyDir::from_args(&args, "statistics", "accuracy")?;
-    let mut plan = if dir.quick {
-        quick_plan()
-    } else {
-        full_plan(args.iter().any(|a| a == "--reduced"))
-    };
     let value_of = |flag: &str| {
         args.iter()
             .position(|a| a == flag)
@@ -551,6 +698,33 @@ fn study() -> Result<(), String> {
                     .ok_or(format!("{flag} needs a value"))
             })
             .transpose()
+    };
+    let damping_study = match value_of("--study")?.as_deref() {
+        None | Some("statistics") => false,
+        Some("damping") => true,
+        Some(other) => return Err(format!("--study {other}: use statistics or damping")),
+    };
+    let mut plan = if damping_study {
+        let mut plan = damping_plan();
+        if dir.quick {
+            // The pipeline only: every model on the coarsest mesh, two Δt, one forcing.
+            plan.name = "damping-quick";
+            plan.forcings.truncate(1);
+            plan.meshes.truncate(1);
+            plan.ladder = vec![1e-4, 1e-5];
+        }
+        plan
+    } else if dir.quick {
+        quick_plan()
+    } else {
+        full_plan(args.iter().any(|a| a == "--reduced"))
+    };
+    // The files of the study: statistics.csv, meshes.csv, statistics_meta.csv, or damping.csv,
+    // damping_meshes.csv, damping_meta.csv.
+    let file = |name: &str| match (damping_study, name) {
+        (false, _) => name.to_string(),
+        (true, "statistics.csv") => "damping.csv".to_string(),
+        (true, _) => format!("damping_{}", name.trim_start_matches("statistics_")),
     };
     let forcings = value_of("--forcings")?;
     if let Some(kind) = &forcings {
@@ -579,6 +753,13 @@ fn study() -> Result<(), String> {
     if let Some(list) = &meshes {
         plan.meshes = parse_meshes(list)?;
     }
+    let windows = value_of("--windows")?;
+    if windows.is_some() {
+        plan.windows = positive_integer("--windows", windows.clone())?;
+        if plan.windows < 2 {
+            return Err("--windows needs at least 2 windows (the spread)".into());
+        }
+    }
     let steps = value_of("--dt")?;
     if let Some(list) = &steps {
         plan.ladder = list
@@ -592,9 +773,13 @@ fn study() -> Result<(), String> {
             .collect::<Result<_, _>>()?;
     }
     let overrides: Vec<String> = args.iter().filter(|a| a.contains('=')).cloned().collect();
-    let skip: Vec<String> = value_of("--skip")?
+    let mut skip: Vec<String> = value_of("--skip")?
         .map(|list| list.split(',').map(str::to_string).collect())
         .unwrap_or_default();
+    let skip_given = !skip.is_empty();
+    if damping_study {
+        skip.extend(["energy".to_string(), "replicas".to_string()]);
+    }
     if let Some(bad) = skip
         .iter()
         .find(|s| !["energy", "forced", "replicas"].contains(&s.as_str()))
@@ -602,15 +787,49 @@ fn study() -> Result<(), String> {
         return Err(format!("--skip {bad}: use energy, forced and/or replicas"));
     }
     let skips = |part: &str| skip.iter().any(|s| s == part);
+    let models = value_of("--damping")?;
+    if models.is_some() && !damping_study {
+        return Err("--damping needs --study damping".into());
+    }
     let partial = forcings.is_some()
+        || models.is_some()
+        || windows.is_some()
         || meshes.is_some()
         || steps.is_some()
         || !overrides.is_empty()
-        || !skip.is_empty();
+        || skip_given;
     let started = Instant::now();
 
     let (omega1, _, _) = mesh_modes(ElementKind::Argyris, (10, 7))?;
     let alpha = 2.0 * ZETA1 * omega1;
+    if damping_study {
+        plan.dampings = damping_models(omega1);
+        if let Some(list) = &models {
+            let labels: Vec<&str> = list.split(',').collect();
+            if let Some(bad) = labels
+                .iter()
+                .find(|l| !plan.dampings.iter().any(|d| d.label == **l))
+            {
+                let known: Vec<&str> = plan.dampings.iter().map(|d| d.label).collect();
+                return Err(format!("--damping {bad}: use labels among {known:?}"));
+            }
+            plan.dampings.retain(|d| labels.contains(&d.label));
+        }
+    }
+    // Each forced run's damping: a model of the damping study (its label and settings before the
+    // command line's), or the forcing's own.
+    let runs_of: Vec<(Option<&DampingModel>, Vec<String>)> = if plan.dampings.is_empty() {
+        vec![(None, overrides.clone())]
+    } else {
+        plan.dampings
+            .iter()
+            .map(|d| {
+                let settings = d.settings.iter().map(|(k, v)| format!("{k}={v}"));
+                let all = settings.chain(overrides.iter().cloned()).collect();
+                (Some(d), all)
+            })
+            .collect()
+    };
     let mut meshes_csv = String::from("element,nx,ny,free_dofs,omega1_rad_s,omega_max_rad_s\n");
     let mut omega_max = Vec::new();
     for m in &plan.meshes {
@@ -625,27 +844,39 @@ fn study() -> Result<(), String> {
         .expect("write to string");
         omega_max.push(wmax);
     }
-    dir.write("meshes.csv", &meshes_csv)?;
+    dir.write(&file("meshes.csv"), &meshes_csv)?;
 
-    let mut csv =
-        String::from("quantity,scene,element,nx,ny,dt,omega_max_dt,value,spread,wall_s\n");
-    let scenes = usize::from(!skips("energy"))
+    let mut csv = String::from(if damping_study {
+        "quantity,scene,damping,element,nx,ny,dt,omega_max_dt,value,spread,wall_s\n"
+    } else {
+        "quantity,scene,element,nx,ny,dt,omega_max_dt,value,spread,wall_s\n"
+    });
+    // The smallest Δt of a mesh, for a damping model of the damping study unless `--dt` names
+    // the time steps.
+    let lowest = |m: &MeshPlan, model: Option<&DampingModel>| {
+        let model = model.filter(|_| steps.is_none());
+        model.map_or(m.dt_min, |d| d.dt_min(m)) * (1.0 - 1e-9)
+    };
+    let runs_at = |m: &MeshPlan, model| {
+        let lowest = lowest(m, model);
+        plan.ladder.iter().filter(|&&dt| dt >= lowest).count()
+    };
+    let energy_runs: usize = plan.meshes.iter().map(|m| runs_at(m, None)).sum();
+    let forced_runs: usize = runs_of
+        .iter()
+        .flat_map(|r| plan.meshes.iter().map(|m| runs_at(m, r.0)))
+        .sum();
+    let total_runs = energy_runs * usize::from(!skips("energy"))
         + if skips("forced") {
             0
         } else {
-            plan.forcings.len()
+            forced_runs * plan.forcings.len()
         };
-    let total_runs: usize = plan
-        .meshes
-        .iter()
-        .map(|m| plan.ladder.iter().filter(|&&dt| dt >= m.dt_min).count())
-        .sum::<usize>()
-        * scenes;
     let mut done = 0;
     let mut progress = |scene: &str, m: &MeshPlan, dt: f64, wmax: f64, wall: f64| {
         done += 1;
         eprintln!(
-            "[{done:>3}/{total_runs}] {scene:<18} {:<7} {:>2}×{:<2} Δt={dt:<7e} ω_max·Δt={:<8.3} {wall:>8.2} s (study {:.0} s)",
+            "[{done:>3}/{total_runs}] {scene:<24} {:<7} {:>2}×{:<2} Δt={dt:<7e} ω_max·Δt={:<8.3} {wall:>8.2} s (study {:.0} s)",
             element_name(m.element),
             m.mesh.0,
             m.mesh.1,
@@ -669,9 +900,9 @@ fn study() -> Result<(), String> {
                 .collect::<Result<Vec<_>, _>>()?;
             let (stats, wall) = energy_stats(&replicas, dt);
             rows(
-                &mut csv, "energy", m.element, m.mesh, dt, wmax, &stats, wall,
+                &mut csv, "energy", None, m.element, m.mesh, dt, wmax, &stats, wall,
             );
-            dir.write("statistics.csv", &csv)?;
+            dir.write(&file("statistics.csv"), &csv)?;
             progress("energy", m, dt, wmax, wall);
         }
     }
@@ -682,26 +913,33 @@ fn study() -> Result<(), String> {
         &plan.forcings[..]
     };
     for forcing in forced {
-        for (m, &wmax) in plan.meshes.iter().zip(&omega_max) {
-            for &dt in plan.ladder.iter().filter(|&&dt| dt >= m.dt_min) {
-                let run = run_forced(
-                    &plan, *forcing, alpha, m.element, m.mesh, dt, 0.0, &overrides,
-                )?;
-                let stats = run.stats();
-                rows(
-                    &mut csv,
-                    forcing.label,
-                    m.element,
-                    m.mesh,
-                    dt,
-                    wmax,
-                    &stats,
-                    run.wall_s,
-                );
-                dir.write("statistics.csv", &csv)?;
-                progress(forcing.label, m, dt, wmax, run.wall_s);
-                if m.element == ElementKind::Argyris && m.mesh == (2, 1) {
-                    quick_values.push((forcing.label, dt, stats));
+        for (model, settings) in &runs_of {
+            for (m, &wmax) in plan.meshes.iter().zip(&omega_max) {
+                let lowest = lowest(m, *model);
+                for &dt in plan.ladder.iter().filter(|&&dt| dt >= lowest) {
+                    let run =
+                        run_forced(&plan, *forcing, alpha, m.element, m.mesh, dt, 0.0, settings)?;
+                    let stats = run.stats();
+                    rows(
+                        &mut csv,
+                        forcing.label,
+                        model.map(|d| d.label),
+                        m.element,
+                        m.mesh,
+                        dt,
+                        wmax,
+                        &stats,
+                        run.wall_s,
+                    );
+                    dir.write(&file("statistics.csv"), &csv)?;
+                    let label = match model {
+                        Some(model) => format!("{} {}", forcing.label, model.label),
+                        None => forcing.label.to_string(),
+                    };
+                    progress(&label, m, dt, wmax, run.wall_s);
+                    if m.element == ElementKind::Argyris && m.mesh == (2, 1) {
+                        quick_values.push((forcing.label, dt, stats));
+                    }
                 }
             }
         }
@@ -755,7 +993,9 @@ fn study() -> Result<(), String> {
             started.elapsed().as_secs_f64()
         );
     }
-    dir.write("replica_check.csv", &check)?;
+    if !damping_study {
+        dir.write("replica_check.csv", &check)?;
+    }
 
     let total_s = started.elapsed().as_secs_f64();
     let mut meta = String::from("key,value\n");
@@ -777,15 +1017,29 @@ fn study() -> Result<(), String> {
     ] {
         writeln!(meta, "{k},{v}").expect("write to string");
     }
-    dir.write("statistics_meta.csv", &meta)?;
+    for d in &plan.dampings {
+        let settings: Vec<String> = d.settings.iter().map(|(k, v)| format!("{k}={v}")).collect();
+        writeln!(meta, "damping {},{}", d.label, settings.join(" ")).expect("write to string");
+    }
+    dir.write(&file("statistics_meta.csv"), &meta)?;
     if partial {
+        let script = if damping_study {
+            "damping_plots.py"
+        } else {
+            "statistics_plots.py"
+        };
         eprintln!(
             "partial study done in {total_s:.1} s: concatenate its CSVs with the other parts', \
-             then run examples/studies/statistics_plots.py on them"
+             then run examples/studies/{script} on them"
         );
         return Ok(());
     }
     eprintln!("runs done in {total_s:.1} s; plotting");
+    if damping_study {
+        dir.plot("damping_plots.py")?;
+        let failures = dir.missing(&["damping.csv", "damping_meshes.csv", "damping_meta.csv"]);
+        return dir.finish(failures);
+    }
     dir.plot("statistics_plots.py")?;
 
     let mut failures = quick_check(&quick_values);

@@ -41,6 +41,7 @@ QUANTITIES = {
     "contact_loss_per_period_J": ("energy removed at the obstacles per period", "J", 1.0),
     "mean_energy_J": ("mean energy.total", "J", 1.0),
     "mean_abs_base_force_N": ("mean |base.force|", "kN", 1e-3),
+    "rms_base_force_N": ("RMS base.force", "kN", 1e-3),
     "first_impact_s": ("first impact", "ms", 1e3),
     "energy_0.1s_J": ("energy at 0.1 s", "J", 1.0),
     "energy_0.3s_J": ("energy at 0.3 s", "J", 1.0),
@@ -161,7 +162,7 @@ def with_spread(quantity, r):
 # ----------------------------------------------------------------------------------------------
 # Plots
 
-def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title):
+def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title, dpi=100):
     """Error against wall time, one panel per (scene, quantity)."""
     n = len(scenes_of_panels)
     cols = 2 if n > 1 else 1
@@ -210,7 +211,7 @@ def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title
     fig.suptitle(title + " (bars: 2σ of the difference; labels: Δt of the first and last run "
                  "of each mesh)", fontsize=9)
     fig.tight_layout()
-    fig.savefig(out / name, dpi=100)
+    fig.savefig(out / name, dpi=dpi)
     plt.close(fig)
 
 
