@@ -7,7 +7,7 @@ use crate::element::ElementKind;
 use crate::error::Error;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{vr, Kind, Variable, FMI2};
+use crate::fmi::variables::{vr, Causality, Kind, Variable, FMI2};
 use crate::scene::Scene;
 use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{bound_tolerance, Outputs};
@@ -31,7 +31,11 @@ fn element_from_code(code: i32) -> Option<ElementKind> {
 
 /// The value of a parameter in `scene`, typed as the variable declares it.
 pub fn parameter(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
-    let json = scene.get(v.name)?;
+    typed(v, &scene.get(v.name)?)
+}
+
+/// The FMI value of parameter `v` from its JSON value in a scene.
+fn typed(v: &Variable, json: &serde_json::Value) -> Result<Value, Failure> {
     let internal = || {
         Failure::refused(format!(
             "{} = {json} has no FMI value (internal error)",
@@ -122,12 +126,69 @@ fn isolation_scene(name: &str) -> Scene {
 pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene, Failure> {
     let json = json_value(v, value)?;
     let updated = scene.with(v.name, json.clone())?;
-    if let Err(e) = isolation_scene(v.name).with(v.name, json)?.validate() {
-        if matches!(&e, Error::InvalidParameter { name, .. } if name == v.name) {
-            return Err(e.into());
-        }
-    }
+    check_alone(&isolation_tree(v.name), v, json)?;
     Ok(updated)
+}
+
+/// The JSON tree of [`isolation_scene`] for `name`.
+fn isolation_tree(name: &str) -> serde_json::Value {
+    serde_json::to_value(isolation_scene(name)).expect("a scene always serializes")
+}
+
+/// Checks the JSON value `json` of parameter `v` against its own range: set alone into
+/// `isolation`, the tree of [`isolation_scene`] for `v`, it must leave no limit of `v` broken.
+fn check_alone(
+    isolation: &serde_json::Value,
+    v: &Variable,
+    json: serde_json::Value,
+) -> Result<(), Failure> {
+    let mut tree = isolation.clone();
+    let text = json.to_string();
+    *Scene::slot(&mut tree, v.name)
+        .ok_or_else(|| Error::invalid(v.name, &text, "is not a scene parameter"))? = json;
+    let alone: Scene = serde_json::from_value(tree)
+        .map_err(|e| Error::invalid(v.name, &text, &format!("has the wrong type ({e})")))?;
+    match alone.validate() {
+        Err(e) if matches!(&e, Error::InvalidParameter { name, .. } if name == v.name) => {
+            Err(e.into())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Checks the parameters of an untrusted `scene` as [`with_parameter`] checks each value set:
+/// every FMU parameter within its own range (in the order of the variables), and no scene field
+/// that is not an FMU variable away from its default. The scene is serialized once, not once per
+/// parameter.
+pub fn check_parameters(scene: &Scene) -> Result<(), Failure> {
+    let mut tree = serde_json::to_value(scene).expect("a scene always serializes");
+    let mut rebuilt = serde_json::to_value(Scene::default()).expect("a scene always serializes");
+    let amplitude = "base.amplitude";
+    let [isolation, isolation_amplitude] = ["", amplitude].map(isolation_tree);
+    for v in FMI2
+        .variables
+        .iter()
+        .filter(|v| v.causality == Causality::Parameter)
+    {
+        let stored = Scene::slot(&mut tree, v.name)
+            .ok_or_else(|| Error::invalid(v.name, "?", "is not a scene parameter"))?;
+        let json = json_value(v, typed(v, stored)?)?;
+        let isolation = if v.name == amplitude {
+            &isolation_amplitude
+        } else {
+            &isolation
+        };
+        check_alone(isolation, v, json.clone())?;
+        *Scene::slot(&mut rebuilt, v.name).expect("every parameter is a scene field") = json;
+    }
+    let rebuilt: Scene = serde_json::from_value(rebuilt)
+        .map_err(|e| Failure::refused(format!("its parameters do not form a scene ({e})")))?;
+    if rebuilt != *scene {
+        return Err(Failure::refused(
+            "its scene sets fields that are not FMU variables (stop_time, solver.qp or solver.linear)",
+        ));
+    }
+    Ok(())
 }
 
 /// What the last communication step reports besides the outputs at its end.
