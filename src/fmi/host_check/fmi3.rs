@@ -103,6 +103,9 @@ impl Fmi3Host {
     ///
     /// # Safety
     /// `self.c` is a live instance (it is, from `new` to `drop`).
+    ///
+    /// Long (~130 lines) because it is one `match` arm per [`Op`], each a single FMI call: the
+    /// arms are independent and read best side by side with the FMI 2.0 host's.
     unsafe fn call(&mut self, op: &Op) -> Option<fmi3Status> {
         let c = self.c;
         // SAFETY: every array passed has the length passed with it; states are live or null.
