@@ -197,7 +197,7 @@ impl Stepper {
         check_set_up(scene)?;
         check_base(scene, 0.0, initial_base)?;
         let free = Arc::new(FreeSystem::new(scene, plate));
-        let linear = auto::resolve(scene, plate.free.len());
+        let linear = crate::backend_choice::resolve(scene, plate.free.len());
         let preload = static_preload(scene, &free, initial_base)?;
         let backend = auto::build(linear, scene, &free)?;
         let mut field = vec![0.0; backend.dimension()];
