@@ -416,8 +416,9 @@ impl Stepper {
     /// A step whose result is not finite (an overflow, e.g. from a base displacement of 1e308 m
     /// without obstacles) is refused with an error that names what overflowed, and so is every
     /// step that fails: the stepper is then unchanged, still at t_n. The step predicts, decides
-    /// its path ([`Route`]), solves the contact on that path if it must, forms the contact forces,
-    /// the force on the base and the energy flows, and only then adopts the new level.
+    /// its path (screened, checked, clarabel or active set), solves the contact on that path if
+    /// it must, forms the contact forces, the force on the base and the energy flows, and only
+    /// then adopts the new level.
     pub fn step(&mut self, base_next: f64) -> Result<StepReport, Error> {
         let input = self.predict(base_next)?;
         let route = self.route(&input);
