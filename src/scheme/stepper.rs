@@ -6,7 +6,7 @@ mod paths;
 
 use super::auto;
 use super::backend::{FieldSums, LinearBackend, StepForcing};
-use super::energy::{DiscreteEnergy, EnergyFlows};
+use super::energy::EnergyFlows;
 use super::impact::{Law, VertexHistory};
 use super::outputs::Outputs;
 use super::preload::static_preload;
@@ -669,7 +669,7 @@ impl Stepper {
         let active_nodes = self.states.iter().filter(|s| s.is_active()).count();
         let contact_force = self.forces.iter().sum();
         // The pressure that acted on the last step, not one set since for the next.
-        let (energy, [a, b, c]) = self.energy_and_values(
+        let (energy, [a, b, c]) = self.model().energy_and_values(
             &self.levels.previous,
             &self.levels.current,
             self.base,
@@ -721,20 +721,6 @@ impl Stepper {
             backend: &*self.backend,
             free: &self.free,
         }
-    }
-
-    /// The energy between two levels (`previous`, `current`) at base positions `base` under
-    /// `pressure`, and the relative displacement w of `current` at the output points.
-    fn energy_and_values(
-        &self,
-        previous: &[f64],
-        current: &[f64],
-        base: [f64; 2],
-        pressure: f64,
-        at_rest: bool,
-    ) -> (DiscreteEnergy, [f64; 3]) {
-        self.model()
-            .energy_and_values(previous, current, base, pressure, at_rest)
     }
 
     /// Checks a state against this stepper ([`State`], with every check listed at

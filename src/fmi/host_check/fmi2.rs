@@ -1,6 +1,6 @@
 //! The FMI 2.0 host: one instance and its FMU-state slots, through the exported fmi2 functions.
 
-use super::{Host, Observation, Op, ERROR, OK, SLOTS};
+use super::{Host, Observation, Op, StateCalls, ERROR, OK, SLOTS};
 use crate::fmi::fmi2::exports::*;
 use crate::fmi::variables::{vr, Description, Kind, FMI2};
 use std::ffi::CString;
@@ -242,17 +242,13 @@ impl Host for Fmi2Host {
     }
 
     fn restore_own_state(&mut self) -> Option<fmi2Status> {
-        let c = self.c;
-        let mut s: fmi2FMUstate = std::ptr::null_mut();
-        // SAFETY: `s` is null or a live state of this instance, freed once.
-        unsafe {
-            if fmi2GetFMUstate(c, &mut s) != OK {
-                return None;
-            }
-            let status = fmi2SetFMUstate(c, s);
-            fmi2FreeFMUstate(c, &mut s);
-            Some(status)
-        }
+        let calls = StateCalls {
+            get: fmi2GetFMUstate,
+            set: fmi2SetFMUstate,
+            free: fmi2FreeFMUstate,
+        };
+        // SAFETY: `self.c` is a live instance (it is, from `new` to `drop`).
+        unsafe { calls.take_and_set(self.c) }
     }
 
     fn failed(obs: &Observation) -> bool {

@@ -144,7 +144,8 @@ impl Stepper {
         let z_curr = self.base[1];
         let p_next = self.scene.load.pressure;
         let (energy, values) =
-            self.energy_and_values(current, next, [z_curr, base_next], p_next, false);
+            self.model()
+                .energy_and_values(current, next, [z_curr, base_next], p_next, false);
         let reported = [
             energy.kinetic,
             energy.elastic,
