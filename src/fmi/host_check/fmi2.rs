@@ -80,35 +80,41 @@ impl Fmi2Host {
     }
 }
 
+/// A new FMI 2.0 instance named `name`, without callbacks, on the default mesh; panics when the
+/// library refuses it. The caller frees it (`fmi2FreeInstance`).
+pub fn instantiate(name: &str) -> fmi2Component {
+    let callbacks = fmi2CallbackFunctions {
+        logger: None,
+        allocate_memory: None,
+        free_memory: None,
+        step_finished: None,
+        component_environment: std::ptr::null_mut(),
+    };
+    let name = CString::new(name).expect("an instance name without NUL");
+    let guid = CString::new(FMI2.token).expect("the token has no NUL");
+    // SAFETY: valid strings and callbacks for the call.
+    let c = unsafe {
+        fmi2Instantiate(
+            name.as_ptr(),
+            1,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &callbacks,
+            0,
+            0,
+        )
+    };
+    assert!(!c.is_null(), "fmi2Instantiate failed");
+    c
+}
+
 impl Host for Fmi2Host {
     const DESCRIPTION: &'static Description = &FMI2;
     const EVERY_ERROR_FAILS: bool = false;
 
     fn new() -> Fmi2Host {
-        let callbacks = fmi2CallbackFunctions {
-            logger: None,
-            allocate_memory: None,
-            free_memory: None,
-            step_finished: None,
-            component_environment: std::ptr::null_mut(),
-        };
-        let name = CString::new("random").unwrap();
-        let guid = CString::new(FMI2.token).unwrap();
-        // SAFETY: valid strings and callbacks for the call.
-        let c = unsafe {
-            fmi2Instantiate(
-                name.as_ptr(),
-                1,
-                guid.as_ptr(),
-                std::ptr::null(),
-                &callbacks,
-                0,
-                0,
-            )
-        };
-        assert!(!c.is_null(), "fmi2Instantiate failed");
         let host = Fmi2Host {
-            c,
+            c: instantiate("random"),
             states: [std::ptr::null_mut(); SLOTS],
         };
         host.small_mesh();
