@@ -379,6 +379,9 @@ fn crafted(inst: &mut Plate, path: &[&str], value: &str) -> Vec<u8> {
 }
 
 /// Regression: a crafted FMU state with a matching checksum was accepted.
+///
+/// Long (~105 lines) because most of it is the table of crafted fields, one row per check of
+/// the snapshot validation, with the words each refusal must contain.
 #[test]
 fn crafted_fmu_states_are_refused_naming_the_field() {
     let (mut inst, _) = initialized();
