@@ -17,7 +17,7 @@
 //! * the assembled system: M and K over all dofs and M_ff, K_ff, A_ff over the free ones, five
 //!   sparse matrices, and what forming them and analysing A_ff leaves behind
 //!   ([`SET_UP_TRANSIENT`] bytes per entry of A_ff);
-//! * the modal backend (up to [`crate::scheme::MODAL_AUTO_LIMIT`] free dofs with `auto`): the dense
+//! * the modal backend (up to [`crate::backend_choice::MODAL_AUTO_LIMIT`] free dofs with `auto`): the dense
 //!   generalized eigenproblem holds [`MODAL_DENSE_COPIES`] n × n matrices at its peak, then
 //!   C = BΦ, its row-major copy and D⁻¹Cᵀ (3 m n) and W (m²);
 //! * the sparse backend: the Cholesky factor of A_ff, nnz(L) ≈ L₀ (n / n₀)^1.25 with (n₀, L₀) the
@@ -36,12 +36,12 @@
 //! contact part. It is checked against the measured peak resident memory (`benches/solver.rs
 //! -- --scale`) for both elements from 10 × 7 to 100 × 50 in the tests.
 
+use crate::backend_choice::resolve as resolve_linear;
 use crate::contact::delassus::DEFAULT_DELASSUS_BUDGET;
 use crate::contact::sparse_contact::delassus_limit;
 use crate::element::ElementKind;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Scene};
-use crate::scheme::resolve_linear;
 
 /// n × n dense matrices alive at the peak of the modal set-up (dense M_ff and K_ff, the Cholesky
 /// factor of K_ff, the transformed pencil and its symmetric copy, the eigensolver's vectors and
@@ -244,8 +244,8 @@ mod tests {
         assert_eq!(ProblemSize::of(&free_plate).constrained, 0);
     }
 
-    /// The set-up estimate against the peak resident memory measured by `cargo run --release
-    /// --example bench -- --scale` (VmHWM after `Stepper::from_system`, the process's own few MiB
+    /// The set-up estimate against the peak resident memory measured by `cargo bench --bench
+    /// solver -- --scale` (VmHWM after `Stepper::from_system`, the process's own few MiB
     /// included), on this machine.
     #[test]
     fn the_setup_estimate_follows_the_measured_peaks() {

@@ -10,6 +10,7 @@
 //! * [`mesh`], [`quadrature`]: structured meshes of the rectangle and exact triangle rules;
 //! * [`element`]: the C¹ elements (Argyris triangle, reduced FVS quadrilateral);
 //! * [`assembly`], [`system`]: dofs, sparse M, K and load, clamp, point evaluation;
+//! * [`backend_choice`], [`budget`]: the linear backend a scene runs on and its memory estimate;
 //! * [`modes`]: natural frequencies and M-orthonormal mode shapes;
 //! * [`contact`]: the box-constrained QP of a step (exact active set, clarabel reference);
 //! * [`scheme`]: the β = ½ Newmark–Dumont–Paoli stepper with modal and sparse backends;
@@ -17,9 +18,13 @@
 //! * [`scene`]: the parameter set shared by examples, the FMU and Python;
 //! * [`error`]: errors that name the parameter and the limit;
 //! * [`fmi`]: the FMI 2.0 and FMI 3.0 Co-Simulation interfaces, the crate's only unsafe code.
+// Unsafe code is refused everywhere but where the C ABI needs it: the FMI shell modules that
+// export or call C functions allow it, each saying why (src/fmi/mod.rs).
+#![deny(unsafe_code)]
 
 pub mod advice;
 pub mod assembly;
+pub mod backend_choice;
 pub mod budget;
 pub mod contact;
 pub mod element;

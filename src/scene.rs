@@ -241,6 +241,9 @@ impl Damping {
     }
 
     /// Checks each field's range and their combinations; the error names the parameters at fault.
+    ///
+    /// Long (~115 lines) because it is the list of every parameter's limit in declaration order,
+    /// then the cross-field relations; each check is two to eight lines and independent.
     pub fn validate(&self) -> Result<(), Error> {
         for (name, v) in [
             ("damping.mass_proportional", self.mass_proportional),
@@ -481,13 +484,19 @@ impl Scene {
     /// access to a scene: the FMU's variable binding, [`Scene::set`] and the examples go through them.
     pub fn get(&self, key: &str) -> Result<serde_json::Value, Error> {
         let mut tree = serde_json::to_value(self).expect("a scene always serializes");
-        for part in key.split('.') {
-            tree = tree
-                .get_mut(part)
-                .map(serde_json::Value::take)
-                .ok_or_else(|| Error::invalid(key, "?", "is not a scene parameter"))?;
-        }
-        Ok(tree)
+        Scene::slot(&mut tree, key)
+            .map(serde_json::Value::take)
+            .ok_or_else(|| Error::invalid(key, "?", "is not a scene parameter"))
+    }
+
+    /// The value of parameter `key` (dotted) in the JSON tree of a scene, for [`Scene::get`],
+    /// [`Scene::with`] and a caller that reads or writes many parameters of one tree.
+    pub fn slot<'a>(
+        tree: &'a mut serde_json::Value,
+        key: &str,
+    ) -> Option<&'a mut serde_json::Value> {
+        key.split('.')
+            .try_fold(tree, |slot, part| slot.get_mut(part))
     }
 
     /// A copy of the scene with one parameter replaced by a JSON value. The type is checked (serde),
@@ -495,13 +504,8 @@ impl Scene {
     pub fn with(&self, key: &str, value: serde_json::Value) -> Result<Scene, Error> {
         let text = value.to_string();
         let mut tree = serde_json::to_value(self).expect("a scene always serializes");
-        let mut slot = &mut tree;
-        for part in key.split('.') {
-            slot = slot
-                .get_mut(part)
-                .ok_or_else(|| Error::invalid(key, &text, "is not a scene parameter"))?;
-        }
-        *slot = value;
+        *Scene::slot(&mut tree, key)
+            .ok_or_else(|| Error::invalid(key, &text, "is not a scene parameter"))? = value;
         serde_json::from_value(tree)
             .map_err(|e| Error::invalid(key, &text, &format!("has the wrong type ({e})")))
     }

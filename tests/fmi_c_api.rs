@@ -14,7 +14,7 @@
 //! `PROPTEST_CASES=1000 cargo test --release --test fmi_c_api` runs a longer search.
 
 use plate_impact::fmi::fmi2::exports::*;
-use plate_impact::fmi::host_check::fmi2::Fmi2Host;
+use plate_impact::fmi::host_check::fmi2::{instantiate, Fmi2Host};
 use plate_impact::fmi::host_check::fmi3::Fmi3Host;
 use plate_impact::fmi::host_check::{
     check_call, check_sequence, value_references, Host, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS,
@@ -22,7 +22,6 @@ use plate_impact::fmi::host_check::{
 };
 use plate_impact::fmi::variables::{vr, Description, Kind, FMI2, FMI3};
 use proptest::prelude::*;
-use std::ffi::CString;
 
 const WARNING: fmi2Status = 1;
 const ERROR: fmi2Status = 3;
@@ -127,31 +126,14 @@ fn a_plate_the_elements_cannot_mesh_is_refused_at_initialization() {
 
 /// An FMI 2.0 instance on a 3 × 2 mesh.
 fn instance() -> fmi2Component {
-    let callbacks = fmi2CallbackFunctions {
-        logger: None,
-        allocate_memory: None,
-        free_memory: None,
-        step_finished: None,
-        component_environment: std::ptr::null_mut(),
-    };
-    let name = CString::new("garbage").unwrap();
-    let guid = CString::new(FMI2.token).unwrap();
+    let c = instantiate("garbage");
     let refs = [vr::MESH_NX, vr::MESH_NY];
-    // SAFETY: valid strings and callbacks for the call; arrays of two elements.
-    unsafe {
-        let c = fmi2Instantiate(
-            name.as_ptr(),
-            1,
-            guid.as_ptr(),
-            std::ptr::null(),
-            &callbacks,
-            0,
-            0,
-        );
-        assert!(!c.is_null());
-        assert_eq!(fmi2SetInteger(c, refs.as_ptr(), 2, [3, 2].as_ptr()), 0);
-        c
-    }
+    // SAFETY: arrays of two elements.
+    assert_eq!(
+        unsafe { fmi2SetInteger(c, refs.as_ptr(), 2, [3, 2].as_ptr()) },
+        0
+    );
+    c
 }
 
 /// Null pointers and garbage are errors, not crashes.

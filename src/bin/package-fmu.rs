@@ -19,6 +19,8 @@
 //!   and `-Zbuild-std`. It says what it runs and stops, naming the package to install, when a tool
 //!   is missing.
 
+#![deny(unsafe_code)]
+
 use plate_impact::fmi::variables::MODEL_IDENTIFIER;
 use std::ffi::OsString;
 use std::io::Write;

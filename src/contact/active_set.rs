@@ -334,6 +334,9 @@ impl ActiveSetSolver {
 
     /// As [`Self::solve`], with the subproblems solved by `subproblems`, whose unconstrained
     /// values are `y_star`.
+    ///
+    /// Kept in one piece (~105 lines): the PDAS iteration and its refinement and safeguard
+    /// hand-offs share the iterate and the report; split, each piece would return them all.
     pub fn solve_with<S: WorkingSetSolver + ?Sized>(
         &mut self,
         w: &mut S,
@@ -536,6 +539,9 @@ impl ActiveSetSolver {
 
     /// The safeguard: primal active set method on min ½ (y − y*)ᵀ W⁻¹ (y − y*), lo ≤ y ≤ hi,
     /// from y = clip(y*). Returns the status (`None`: iteration limit) and the iteration count.
+    ///
+    /// Kept in one piece (~110 lines): the textbook loop (subproblem step, multiplier test,
+    /// blocking bound) shares the working set, the step and the iterate across its phases.
     #[allow(clippy::too_many_arguments)]
     fn primal_active_set<S: WorkingSetSolver + ?Sized>(
         &mut self,

@@ -172,6 +172,10 @@ fn solve_on_active_set(
 /// The states are read from the interior-point pair of each bound row: index i is active at a
 /// bound when that row's dual exceeds its slack (strict complementarity makes the split clear). Errors: inconsistent dimensions, lo_i > hi_i, or any Clarabel status but
 /// `Solved` (named in the message).
+///
+/// Kept in one piece (~160 lines): it is one straight pipeline — scaling, P in Clarabel's CSC, the
+/// bound rows G and h, the solve, the unscaling and the state reading — whose steps share the row
+/// bookkeeping of G; split, each piece would take and return that bookkeeping.
 pub fn solve_box_qp_with(
     qp: &BoxQp<'_>,
     settings: DefaultSettings<f64>,

@@ -7,7 +7,7 @@
 
 use super::call_state::{CallState, CallTable};
 use super::logger::{LogSink, Logger, LOG_ALL, LOG_ERROR, LOG_WARNING};
-use super::model::{self, Model, Phase, StepOptions, StepOutcome, Value};
+use super::model::{self, Checked, Model, Phase, StepOptions, StepOutcome, Value};
 use super::serialized;
 use super::status::{Failure, Status};
 use super::variables::{Causality, Description, Dimension, Kind, Start, Variable};
@@ -568,8 +568,9 @@ impl<V: Version, M: Model> Instance<V, M> {
         }))
     }
 
-    /// Checks an untrusted snapshot completely.
-    fn validate(snapshot: &Snapshot<V, M>) -> Result<(), Failure> {
+    /// Checks an untrusted snapshot completely: its mode and structural parameters here, the
+    /// model's part by [`model::check`].
+    fn validate(snapshot: &Snapshot<V, M>) -> Result<Checked<'_, M::Snapshot>, Failure> {
         let mode = snapshot.mode;
         if !mode.reachable() {
             return Err(Failure::refused(format!(
@@ -600,7 +601,7 @@ impl<V: Version, M: Model> Instance<V, M> {
                 Failure::refused(format!("the FMU state is refused: {}", f.message))
             })?;
         }
-        M::validate(&snapshot.model, mode.phase())
+        model::check::<M>(&snapshot.model, mode.phase())
     }
 
     /// Set FMU state: continues from `state`, in this or any instance of this FMU; a refused
@@ -608,8 +609,8 @@ impl<V: Version, M: Model> Instance<V, M> {
     pub fn set_state(&mut self, state: &StoredState<V, M>) -> Result<(), Failure> {
         self.enter(V::SET_FMU_STATE)?;
         let snapshot = &state.snapshot;
-        Self::validate(snapshot)?;
-        self.model.restore(&snapshot.model, snapshot.mode.phase())?;
+        let checked = Self::validate(snapshot)?;
+        self.model.restore(checked)?;
         self.sizes = snapshot.sizes.clone();
         self.mode = snapshot.mode;
         Ok(())
@@ -640,7 +641,7 @@ impl<V: Version, M: Model> Instance<V, M> {
     pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<StoredState<V, M>, Failure> {
         self.enter(V::DESERIALIZE_FMU_STATE)?;
         let snapshot: Snapshot<V, M> = serialized::decode(bytes).map_err(Failure::refused)?;
-        Self::validate(&snapshot)?;
+        Self::validate(&snapshot).map(|_| ())?;
         Ok(StoredState::new(snapshot))
     }
 }

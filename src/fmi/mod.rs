@@ -19,12 +19,18 @@
 //! There is no global mutable state: every instance owns its model, so instances may live side
 //! by side and run on different threads.
 
+// The C API's own functions dereference the raw pointers a host passes.
+#[allow(unsafe_code)]
 pub mod c_api;
 pub mod call_state;
+// The shared shell of the exports: raw pointers, C strings and callbacks from the host.
+#[allow(unsafe_code)]
 pub mod ffi;
 pub mod fmi2;
 pub mod fmi3;
+// The host check loads the FMU's shared library and calls it through C function pointers.
 #[cfg(feature = "host-check")]
+#[allow(unsafe_code)]
 pub mod host_check;
 pub mod instance;
 pub mod logger;

@@ -166,11 +166,40 @@ pub trait Model: Send + Sized {
     fn snapshot(&self, phase: Phase) -> Self::Snapshot;
 
     /// Checks a snapshot from an untrusted source (a deserialized byte buffer) for `phase`
-    /// completely, without changing anything.
+    /// completely, without changing anything. Called through [`check`] only.
     fn validate(snapshot: &Self::Snapshot, phase: Phase) -> Result<(), Failure>;
 
-    /// Continues from a validated snapshot taken in `phase`; on an error nothing changes.
-    fn restore(&mut self, snapshot: &Self::Snapshot, phase: Phase) -> Result<(), Failure>;
+    /// Continues from a snapshot that [`check`] accepted; on an error nothing changes.
+    fn restore(&mut self, snapshot: Checked<'_, Self::Snapshot>) -> Result<(), Failure>;
+}
+
+/// A snapshot that [`Model::validate`] accepted for the phase it was taken in: the only input
+/// of [`Model::restore`], made by [`check`] alone, so that no snapshot is restored unchecked and
+/// none is checked twice.
+pub struct Checked<'a, S> {
+    snapshot: &'a S,
+    phase: Phase,
+}
+
+impl<'a, S> Checked<'a, S> {
+    /// The snapshot.
+    pub fn snapshot(&self) -> &'a S {
+        self.snapshot
+    }
+
+    /// The phase it was taken in.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+}
+
+/// Validates `snapshot`, taken in `phase`, for model `M` ([`Model::validate`]).
+pub fn check<M: Model>(
+    snapshot: &M::Snapshot,
+    phase: Phase,
+) -> Result<Checked<'_, M::Snapshot>, Failure> {
+    M::validate(snapshot, phase)?;
+    Ok(Checked { snapshot, phase })
 }
 
 /// Whether `variable` may be set in `phase`: parameters before initialization ends (not in

@@ -38,7 +38,7 @@ mod state;
 mod stepper;
 mod vectors;
 
-pub use auto::{resolve as resolve_linear, MODAL_AUTO_LIMIT};
+pub use crate::backend_choice::{resolve as resolve_linear, MODAL_AUTO_LIMIT};
 pub use backend::{EnergyPieces, FieldSums, LinearBackend, StepForcing};
 pub use energy::EnergyFlows;
 pub use free_system::FreeSystem;

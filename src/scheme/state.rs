@@ -1,10 +1,31 @@
-//! The serializable dynamic state of a stepper, for FMU get/set/serialize.
+//! The serializable dynamic state of a stepper, for FMU get/set/serialize, and its checks: a
+//! state is untrusted input, and [`Stepper::restore`](super::Stepper::restore) adopts only a
+//! [`CheckedState`], which [`Model::check`] alone makes.
 
-use super::energy::EnergyFlows;
+use super::backend::LinearBackend;
+use super::energy::{DiscreteEnergy, EnergyFlows};
+use super::stepper::check_base;
+use super::FreeSystem;
 use crate::contact::BoundState;
 use crate::error::Error;
-use crate::scene::{LinearChoice, Scene};
+use crate::scene::{LinearChoice, Outside, Scene};
 use serde::{Deserialize, Serialize};
+
+/// Relative tolerance of the obstacle bounds when a state is restored: 1e-6 of the gap
+/// ([`Scene::gap`]). A step satisfies its bounds to round-off
+/// (the stability matrix asserts 1e-9 of the gap on extreme scenes, 1000 times inside this), and a
+/// vertex 1e-6 of the gap inside an obstacle would be pushed out with a speed of 1e-6·gap/Δt, far
+/// below anything physical; a crafted state with a vertex deep in an obstacle would instead be
+/// pushed out within one step, an arbitrary impulse.
+pub const RESTORE_BOUND_TOLERANCE: f64 = 1e-6;
+
+/// Relative tolerance of the sign of a restored contact force, as a fraction of the force that
+/// moves the hardest-to-move constrained vertex across the gap in one step, max_i A_ii·gap/Δt².
+/// The active-set method accepts a wrong-signed multiplier μ_i while W_ii·|μ_i| ≤ 1e-11 of the gap
+/// scale, with W_ii ≥ 1/A_ii, so its forces have the wrong sign by less than 1e-11·A_ii·gap/Δt²
+/// (twice that after the start step) when the gap sets the scale: 1e-9 leaves a factor 50 for
+/// predictions far beyond the gap.
+pub const RESTORE_FORCE_TOLERANCE: f64 = 1e-9;
 
 /// The serializable dynamic state of a [`Stepper`](super::Stepper): the scene (fixed parameters,
 /// and tunable ones at their current values), the linear backend whose coordinates it holds, and
@@ -129,6 +150,220 @@ impl State {
         }
         Ok(states)
     }
+}
+
+/// A [`State`] that passed every check of [`Model::check`] against a running stepper, with its
+/// contact states decoded: the only input [`Stepper::adopt`](super::Stepper::adopt) takes.
+pub(crate) struct CheckedState<'a> {
+    pub(super) state: &'a State,
+    pub(super) states: Vec<BoundState>,
+}
+
+/// What stored levels and states are checked against: a running stepper's scene, backend and
+/// free system ([`Stepper::model`](super::Stepper::model)).
+pub(super) struct Model<'a> {
+    pub(super) scene: &'a Scene,
+    pub(super) linear: LinearChoice,
+    pub(super) backend: &'a dyn LinearBackend,
+    pub(super) free: &'a FreeSystem,
+}
+
+/// The two stored levels of a stepper or of a state to restore: n, (z_{n−1}, z_n) (m) and the
+/// fields w_{n−1}, w_n in the backend's coordinates.
+pub(super) struct StoredLevels<'a> {
+    pub(super) step_index: u64,
+    pub(super) base: [f64; 2],
+    pub(super) previous: &'a [f64],
+    pub(super) current: &'a [f64],
+}
+
+/// Where stored levels leave the obstacles ([`Model::first_level_outside`]); `level` is 0 for
+/// n − 1 and 1 for n.
+pub(super) enum LevelOutside {
+    /// The base value of that level is not strictly inside the gap: the error saying so.
+    Base { level: usize, error: Error },
+    /// A constrained vertex of that level lies past an obstacle.
+    Vertex { level: usize, outside: Outside },
+}
+
+impl Model<'_> {
+    /// Checks a state taken from a stepper of a scene with the same fixed parameters.
+    ///
+    /// The state is untrusted input: it is refused, with an error naming the field, unless its
+    /// fixed parameters and backend match this model's and its tunable ones are valid, its
+    /// dimensions match, every number is finite, its contact codes are in range and its contact
+    /// forces have their signs ([`State::check_fields`] and [`RESTORE_FORCE_TOLERANCE`]), both
+    /// base values lie strictly inside the gap, every constrained vertex of both levels lies
+    /// within the obstacles to [`RESTORE_BOUND_TOLERANCE`] of the gap (every impact law keeps
+    /// every level within them), and its energies and outputs are finite.
+    pub(super) fn check<'s>(&self, state: &'s State) -> Result<CheckedState<'s>, Error> {
+        // A state moves freely between the fast path and the clarabel reference.
+        if state.scene.fixed_part_ignoring_qp() != self.scene.fixed_part_ignoring_qp() {
+            return Err(Error::invalid_state(
+                "scene",
+                "<scene>",
+                "must have the fixed parameters of the running model",
+            ));
+        }
+        state.scene.validate()?;
+        if state.backend != self.linear {
+            return Err(Error::invalid_state(
+                "backend",
+                format!("{:?}", state.backend),
+                &format!("must be the running backend {:?}", self.linear),
+            ));
+        }
+        self.check_dimensions(state)?;
+        let states = state.check_fields(self.force_tolerance(&state.scene))?;
+        self.check_levels(state)?;
+        let (energy, values) = self.energy_and_values(
+            &state.previous,
+            &state.current,
+            state.base,
+            state.pressure[1],
+            state.step_index == 0,
+        );
+        let force: f64 = state.forces.iter().sum();
+        let reported = [energy.kinetic, energy.elastic, energy.total, force];
+        if let Some(v) = values.iter().chain(&reported).find(|v| !v.is_finite()) {
+            return Err(Error::invalid_state(
+                "current",
+                format!("<an energy or output of {v}>"),
+                "must give finite energies and outputs",
+            ));
+        }
+        Ok(CheckedState { state, states })
+    }
+
+    /// The lengths of the state's fields against the backend's dimension and the constrained
+    /// vertices.
+    fn check_dimensions(&self, state: &State) -> Result<(), Error> {
+        let (n, m) = (self.backend.dimension(), self.free.constrained.len());
+        for (field, length, expected) in [
+            ("previous", state.previous.len(), n),
+            ("current", state.current.len(), n),
+            ("forces", state.forces.len(), m),
+            ("active_set", state.active_set.len(), m),
+        ] {
+            if length != expected {
+                return Err(Error::invalid_state(
+                    field,
+                    format!("<{length} values>"),
+                    &format!("must hold {expected} values"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Both base values strictly inside the gap and both levels within the obstacles of the
+    /// state's scene to [`RESTORE_BOUND_TOLERANCE`] of the gap.
+    fn check_levels(&self, state: &State) -> Result<(), Error> {
+        let levels = StoredLevels {
+            step_index: state.step_index,
+            base: state.base,
+            previous: &state.previous,
+            current: &state.current,
+        };
+        let tolerance = RESTORE_BOUND_TOLERANCE * state.scene.gap();
+        match self.first_level_outside(&state.scene, &levels, tolerance) {
+            None => Ok(()),
+            Some(LevelOutside::Base { level, error }) => Err(Error::invalid_state(
+                &format!("base[{level}]"),
+                state.base[level],
+                &format!("must be inside the gap ({error})"),
+            )),
+            Some(LevelOutside::Vertex { level, outside }) => Err(Error::invalid_state(
+                &format!("{}[vertex {}]", ["previous", "current"][level], outside.index),
+                format!("<u = {:?} m>", outside.value),
+                &format!(
+                    "must put every constrained vertex within the obstacles ({}), to {tolerance:e} m",
+                    obstacle_levels(&state.scene)
+                ),
+            )),
+        }
+    }
+
+    /// Where two stored levels leave the obstacles of `scene`, if they do: a base value z_{n−1}
+    /// or z_n not strictly inside the gap (the base first), or a constrained vertex of
+    /// u = z + w past an obstacle by more than `tolerance` (m) ([`Scene::first_outside`]). The one
+    /// test of stored levels against the obstacles, for
+    /// [`Stepper::set_obstacles`](super::Stepper::set_obstacles) and [`Model::check`].
+    pub(super) fn first_level_outside(
+        &self,
+        scene: &Scene,
+        levels: &StoredLevels,
+        tolerance: f64,
+    ) -> Option<LevelOutside> {
+        let dt = scene.solver.time_step;
+        let times = [levels.step_index.saturating_sub(1), levels.step_index].map(|n| n as f64 * dt);
+        for (level, (&z, time)) in levels.base.iter().zip(times).enumerate() {
+            if let Err(error) = check_base(scene, time, z) {
+                return Some(LevelOutside::Base { level, error });
+            }
+        }
+        let mut u = vec![0.0; self.free.constrained.len()];
+        for (level, (field, z)) in [levels.previous, levels.current]
+            .into_iter()
+            .zip(levels.base)
+            .enumerate()
+        {
+            self.backend.constrained_values(field, &mut u);
+            for u in u.iter_mut() {
+                *u += z;
+            }
+            if let Some(outside) = scene.first_outside(&u, tolerance) {
+                return Some(LevelOutside::Vertex { level, outside });
+            }
+        }
+        None
+    }
+
+    /// The energy between two levels (`previous`, `current`) at base positions `base` under
+    /// `pressure`, and the relative displacement w of `current` at the output points.
+    pub(super) fn energy_and_values(
+        &self,
+        previous: &[f64],
+        current: &[f64],
+        base: [f64; 2],
+        pressure: f64,
+        at_rest: bool,
+    ) -> (DiscreteEnergy, [f64; 3]) {
+        let dt = self.scene.solver.time_step;
+        let pieces = self.backend.energy(previous, current, dt);
+        let energy = DiscreteEnergy::new(self.free, pieces, base, pressure, dt, at_rest);
+        (energy, self.backend.output_values(current))
+    }
+
+    /// [`RESTORE_FORCE_TOLERANCE`] in newtons for the obstacles of `scene`.
+    fn force_tolerance(&self, scene: &Scene) -> f64 {
+        let a = self.free.system.as_ref();
+        let largest_diagonal = self
+            .free
+            .constrained
+            .iter()
+            .map(|&d| {
+                a.row_idx_of_col(d)
+                    .zip(a.val_of_col(d))
+                    .find(|&(i, _)| i == d)
+                    .map_or(0.0, |(_, &v)| v)
+            })
+            .fold(0.0, f64::max);
+        let dt = scene.solver.time_step;
+        RESTORE_FORCE_TOLERANCE * largest_diagonal * scene.gap() / (dt * dt)
+    }
+}
+
+/// The enabled obstacle levels, for messages: "lower −0.01 m, upper 0.01 m".
+fn obstacle_levels(scene: &Scene) -> String {
+    let levels: Vec<String> = [
+        ("lower", scene.lower_obstacle()),
+        ("upper", scene.upper_obstacle()),
+    ]
+    .into_iter()
+    .filter_map(|(name, g)| g.map(|g| format!("{name} {g} m")))
+    .collect();
+    levels.join(", ")
 }
 
 #[cfg(test)]

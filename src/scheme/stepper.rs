@@ -1,20 +1,25 @@
 //! The time stepper: the three time levels, the forcing and bounds of each step, the contact
 //! solve, and what a step reports.
 
+mod guards;
+mod paths;
+
 use super::auto;
-use super::backend::{LinearBackend, StepForcing};
-use super::energy::{DiscreteEnergy, EnergyFlows};
-use super::impact::{newton_bounds, Law, VertexHistory, VertexMotion};
+use super::backend::{FieldSums, LinearBackend, StepForcing};
+use super::energy::EnergyFlows;
+use super::impact::{Law, VertexHistory};
 use super::outputs::Outputs;
 use super::preload::static_preload;
-use super::reference::solve_reference;
-use super::state::{state_code, State};
+use super::state::{state_code, CheckedState, LevelOutside, Model, State, StoredLevels};
+pub use super::state::{RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE};
 use super::FreeSystem;
 use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
-use crate::contact::{BoundState, BoxQp, PdasReport, PdasSettings};
+use crate::contact::{BoundState, PdasSettings};
 use crate::error::Error;
-use crate::scene::{LinearChoice, ObstacleSide, Outside, QpChoice, Scene};
+use crate::scene::{LinearChoice, ObstacleSide, Scene};
 use crate::system::PlateSystem;
+pub(super) use guards::check_base;
+use paths::{Route, Solved};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -60,38 +65,38 @@ pub struct StepReport {
     pub flows: EnergyFlows,
 }
 
-/// Relative tolerance of the obstacle bounds when a state is restored: 1e-6 of the gap
-/// ([`Scene::gap`]). A step satisfies its bounds to round-off
-/// (the stability matrix asserts 1e-9 of the gap on extreme scenes, 1000 times inside this), and a
-/// vertex 1e-6 of the gap inside an obstacle would be pushed out with a speed of 1e-6·gap/Δt, far
-/// below anything physical; a crafted state with a vertex deep in an obstacle would instead be
-/// pushed out within one step, an arbitrary impulse.
-pub const RESTORE_BOUND_TOLERANCE: f64 = 1e-6;
-
 /// Relative tolerance of the obstacle bounds when an obstacle is moved: 1e-12 of the gap
 /// ([`Scene::gap`]), round-off of u = z + w at a vertex resting on the obstacle. A move is held to
 /// far less than a restored state ([`RESTORE_BOUND_TOLERANCE`]): it is a deliberate change, and
 /// whatever it accepts a restore of the state taken after it accepts too.
 const MOVE_BOUND_TOLERANCE: f64 = 1e-12;
 
-/// Relative tolerance of the bounds on the active-set method's answer, as a fraction of the gap
-/// (g2 − g1, or |g| with one obstacle), before the step accepts it. An exact solve puts an active
-/// vertex on its bound to round-off of the displacements, which stay within the gap (the stability
-/// matrix asserts 1e-9 of the gap on extreme scenes and measures far less); an answer further out
-/// is no solution of the step's QP (at a load of 1e20 Pa the method's own convergence test,
-/// relative to the largest predicted value, can accept one), and clarabel solves the step instead.
-/// Clarabel's answer is then held to [`RESTORE_BOUND_TOLERANCE`], looser because an unpolished
-/// interior-point answer may lie a few 1e-8 m out, and equal to it so that every accepted step
-/// leaves a state that restores.
-const ACTIVE_SET_BOUND_TOLERANCE: f64 = 1e-9;
+/// What a step knows once its unconstrained prediction is in the next level.
+struct StepInput {
+    /// z_{n+1} (m).
+    base_next: f64,
+    /// t_{n+1} (s).
+    t_next: f64,
+    forcing: StepForcing,
+    /// The obstacles relative to the base at t_{n+1}, g − z_{n+1} (m): (−∞, ∞) where disabled.
+    obstacles: [f64; 2],
+    /// The sums of the prediction.
+    sums: FieldSums,
+}
 
-/// Relative tolerance of the sign of a restored contact force, as a fraction of the force that
-/// moves the hardest-to-move constrained vertex across the gap in one step, max_i A_ii·gap/Δt².
-/// The active-set method accepts a wrong-signed multiplier μ_i while W_ii·|μ_i| ≤ 1e-11 of the gap
-/// scale, with W_ii ≥ 1/A_ii, so its forces have the wrong sign by less than 1e-11·A_ii·gap/Δt²
-/// (twice that after the start step) when the gap sets the scale: 1e-9 leaves a factor 50 for
-/// predictions far beyond the gap.
-pub const RESTORE_FORCE_TOLERANCE: f64 = 1e-9;
+/// What a step formed after its contact solve, adopted when it is accepted.
+struct Closing {
+    /// The sums of w_{n+1}.
+    sums: FieldSums,
+    /// Σ_i f_i (N).
+    contact_force: f64,
+    /// −G_n (N).
+    base_force: f64,
+    /// J_{n+1} (N·s).
+    base_impulse: f64,
+    /// The step's energy flows (J).
+    flows: EnergyFlows,
+}
 
 /// The fields of the three time levels, in the backend's coordinates.
 #[derive(Clone, Debug)]
@@ -192,7 +197,7 @@ impl Stepper {
         check_set_up(scene)?;
         check_base(scene, 0.0, initial_base)?;
         let free = Arc::new(FreeSystem::new(scene, plate));
-        let linear = auto::resolve(scene, plate.free.len());
+        let linear = crate::backend_choice::resolve(scene, plate.free.len());
         let preload = static_preload(scene, &free, initial_base)?;
         let backend = auto::build(linear, scene, &free)?;
         let mut field = vec![0.0; backend.dimension()];
@@ -374,7 +379,7 @@ impl Stepper {
             current: &self.levels.current,
         };
         let tolerance = MOVE_BOUND_TOLERANCE * scene.gap();
-        match self.first_level_outside(&scene, &levels, tolerance) {
+        match self.model().first_level_outside(&scene, &levels, tolerance) {
             None => {
                 self.scene = scene;
                 Ok(())
@@ -397,41 +402,6 @@ impl Stepper {
         }
     }
 
-    /// Where two stored levels leave the obstacles of `scene`, if they do: a base value z_{n−1}
-    /// or z_n not strictly inside the gap (the base first), or a constrained vertex of
-    /// u = z + w past an obstacle by more than `tolerance` (m) ([`Scene::first_outside`]). The one
-    /// test of stored levels against the obstacles, for [`Stepper::set_obstacles`] and
-    /// [`Stepper::restore`].
-    fn first_level_outside(
-        &self,
-        scene: &Scene,
-        levels: &StoredLevels,
-        tolerance: f64,
-    ) -> Option<LevelOutside> {
-        let dt = scene.solver.time_step;
-        let times = [levels.step_index.saturating_sub(1), levels.step_index].map(|n| n as f64 * dt);
-        for (level, (&z, time)) in levels.base.iter().zip(times).enumerate() {
-            if let Err(error) = check_base(scene, time, z) {
-                return Some(LevelOutside::Base { level, error });
-            }
-        }
-        let mut u = vec![0.0; self.free.constrained.len()];
-        for (level, (field, z)) in [levels.previous, levels.current]
-            .into_iter()
-            .zip(levels.base)
-            .enumerate()
-        {
-            self.backend.constrained_values(field, &mut u);
-            for u in u.iter_mut() {
-                *u += z;
-            }
-            if let Some(outside) = scene.first_outside(&u, tolerance) {
-                return Some(LevelOutside::Vertex { level, outside });
-            }
-        }
-        None
-    }
-
     /// Changes the pressure during the motion (tunable), applied from the next step on.
     pub fn set_pressure(&mut self, pressure: f64) -> Result<(), Error> {
         if !pressure.is_finite() {
@@ -445,8 +415,26 @@ impl Stepper {
     ///
     /// A step whose result is not finite (an overflow, e.g. from a base displacement of 1e308 m
     /// without obstacles) is refused with an error that names what overflowed, and so is every
-    /// step that fails: the stepper is then unchanged, still at t_n.
+    /// step that fails: the stepper is then unchanged, still at t_n. The step predicts, decides
+    /// its path (screened, checked, clarabel or active set), solves the contact on that path if
+    /// it must, forms the contact forces, the force on the base and the energy flows, and only
+    /// then adopts the new level.
     pub fn step(&mut self, base_next: f64) -> Result<StepReport, Error> {
+        let input = self.predict(base_next)?;
+        let route = self.route(&input);
+        let solved = match route {
+            Route::Screened | Route::Checked => Solved::unconstrained(),
+            Route::Clarabel => self.clarabel_path(&input)?,
+            Route::ActiveSet => self.active_set_path(&input)?,
+        };
+        let closing = self.close(&input, solved.multipliers.as_deref())?;
+        // The step succeeded: from here on nothing fails.
+        Ok(self.accept(&input, route, solved, closing))
+    }
+
+    /// The step's forcing and the unconstrained prediction into the next level; refuses a base
+    /// outside the gap and a prediction that overflows.
+    fn predict(&mut self, base_next: f64) -> Result<StepInput, Error> {
         let dt = self.scene.solver.time_step;
         let t_next = (self.step_index + 1) as f64 * dt;
         check_base(&self.scene, t_next, base_next)?;
@@ -471,130 +459,42 @@ impl Stepper {
             current,
             next,
         } = &mut self.levels;
-        let mut sums = self.backend.predict(previous, current, &forcing, next)?;
+        let sums = self.backend.predict(previous, current, &forcing, next)?;
         if !sums.norm_squared.is_finite() {
             return Err(self.overflow("the unconstrained displacement", t_next, base_next));
         }
-        let m = self.prediction.len();
-        let auto = self.scene.solver.qp == QpChoice::Auto;
-        let lower = self
-            .scene
-            .lower_obstacle()
-            .map_or(f64::NEG_INFINITY, |g| g - base_next);
-        let upper = self
-            .scene
-            .upper_obstacle()
-            .map_or(f64::INFINITY, |g| g - base_next);
-        // A prediction within the obstacles closes no contact, so it satisfies the bounds of
-        // either impact law.
-        let proven = m == 0
-            || (auto
-                && self
-                    .backend
-                    .prediction_proven_within(&self.levels.next, lower, upper));
-        let mut warning = None;
-        let (path, multipliers) = if proven {
-            (StepPath::Unconstrained, None)
-        } else {
-            // Newton's law reads the exact prediction of every vertex, clarabel none of it; the
-            // active-set method on the position law solves from stand-ins where they are proven
-            // inside (see `LinearBackend::prediction_values`).
-            if auto && self.law == Law::Position {
-                self.backend.prediction_values(
-                    &self.levels.next,
-                    lower,
-                    upper,
-                    &mut self.prediction,
-                );
-            } else {
-                self.backend
-                    .constrained_values(&self.levels.next, &mut self.prediction);
-            }
-            self.lower.fill(lower);
-            self.upper.fill(upper);
-            let feasible = (0..m).all(|i| {
-                self.prediction[i] >= self.lower[i] && self.prediction[i] <= self.upper[i]
-            });
-            // Newton's law changes only the bounds of vertices whose prediction crosses an
-            // obstacle: a step without any keeps the obstacles' bounds and costs nothing more.
-            if let (false, Law::Newton(e)) = (feasible, self.law) {
-                self.apply_newton_law(e, base_next);
-            }
-            if feasible && auto {
-                (StepPath::Unconstrained, None)
-            } else if !auto {
-                let (mu, polish_warning) = self.solve_with_clarabel(&forcing)?;
-                warning = polish_warning;
-                (StepPath::Clarabel, Some(mu))
-            } else {
-                let tolerance = ACTIVE_SET_BOUND_TOLERANCE * self.scene.gap();
-                let failure = match self.solve_with_active_set()? {
-                    // The method's own test keeps its y within `solved_within` of the bounds, and
-                    // the field's constrained values agree with its y to round-off far below
-                    // that (about 3nε of the same scale, against its tol = 1e-11): when
-                    // `solved_within` is below the tolerance, the check's O(mn) product (modal
-                    // backend) is not needed. It is above when the data's scale is over 100 times
-                    // the gap's, as at the huge loads whose answer may be garbage.
-                    Ok((mu, solved_within)) if solved_within <= tolerance => Ok(mu),
-                    Ok((mu, _)) => match self.first_past_bound(tolerance) {
-                        None => Ok(mu),
-                        Some(past) => Err(format!(
-                            "the active-set method reported a solution with {}",
-                            past.describe(tolerance)
-                        )),
-                    },
-                    Err(report) => Err(format!(
-                        "the active-set method did not converge ({:?} after {} iterations and \
-                         {} safeguard iterations)",
-                        report.status, report.iterations, report.safeguard_iterations
-                    )),
-                };
-                match failure {
-                    Ok(mu) => (StepPath::ActiveSet, Some(mu)),
-                    Err(reason) => {
-                        let (mu, polish_warning) =
-                            self.solve_with_clarabel(&forcing).map_err(|e| {
-                                Error::ContactSolver(format!(
-                                    "at t = {t_next} s (base displacement {base_next:e} m, \
-                                     load.pressure {:e} Pa) {reason}, and the clarabel fallback \
-                                     failed too ({e}): the step is refused and the state stays \
-                                     at t = {} s",
-                                    self.scene.load.pressure,
-                                    self.time()
-                                ))
-                            })?;
-                        let fallback =
-                            format!("at t = {t_next} s {reason}: clarabel solved the step instead");
-                        warning = Some(match polish_warning {
-                            Some(w) => format!("{fallback}; {w}"),
-                            None => fallback,
-                        });
-                        (StepPath::ClarabelFallback, Some(mu))
-                    }
-                }
-            }
-        };
-        if matches!(path, StepPath::Clarabel | StepPath::ClarabelFallback) {
-            // Clarabel's answer is checked too (the active-set one was, to a tighter tolerance):
-            // no step is accepted with a vertex past its bounds by more than a restored state may be.
-            let tolerance = RESTORE_BOUND_TOLERANCE * self.scene.gap();
-            if let Some(past) = self.first_past_bound(tolerance) {
-                return Err(Error::ContactSolver(format!(
-                    "at t = {t_next} s (base displacement {base_next:e} m, load.pressure {:e} Pa) \
-                     the contact solve left {}: the step is refused and the state stays at t = {} s",
-                    self.scene.load.pressure,
-                    past.describe(tolerance),
-                    self.time()
-                )));
-            }
-        }
+        let obstacles = [
+            self.scene
+                .lower_obstacle()
+                .map_or(f64::NEG_INFINITY, |g| g - base_next),
+            self.scene
+                .upper_obstacle()
+                .map_or(f64::INFINITY, |g| g - base_next),
+        ];
+        Ok(StepInput {
+            base_next,
+            t_next,
+            forcing,
+            obstacles,
+            sums,
+        })
+    }
+
+    /// The contact forces from the multipliers μ of the contact solve, if any, the force on the
+    /// base and the energy flows of the step; refuses the step when any of them, or an output
+    /// after it, is not finite. Changes nothing but the trial forces.
+    fn close(&mut self, input: &StepInput, multipliers: Option<&[f64]>) -> Result<Closing, Error> {
+        let dt = self.scene.solver.time_step;
+        let StepInput {
+            base_next, t_next, ..
+        } = *input;
         // The step's equation times Δt² is the QP's optimality condition A w − b = Bᵀμ, so
         // f = μ/Δt²; the start step's equation is multiplied by Δt²/2 (its
         // 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 gives b_0 = M u_0 + ½Δt²F̄_0), so there
         // f = 2μ/Δt².
-        let equation_scale = if start { 2.0 } else { 1.0 };
-        let (mut contact_force, mut force_magnitude) = (0.0, 0.0);
-        if let Some(mu) = &multipliers {
+        let equation_scale = if input.forcing.start { 2.0 } else { 1.0 };
+        let (mut sums, mut contact_force, mut force_magnitude) = (input.sums, 0.0, 0.0);
+        if let Some(mu) = multipliers {
             sums = self.backend.field_sums(&self.levels.next);
             for (f, &x) in self.trial_forces.iter_mut().zip(mu) {
                 *f = equation_scale * x / (dt * dt);
@@ -609,30 +509,13 @@ impl Stepper {
                 ));
             }
         }
-        if !self.outputs_provably_finite(sums.norm_squared, base_next, force_magnitude) {
-            let (energy, values) = self.energy_and_values(
-                &self.levels.current,
-                &self.levels.next,
-                [z_curr, base_next],
-                p_next,
-                false,
-            );
-            let reported = [
-                energy.kinetic,
-                energy.elastic,
-                energy.total,
-                force_magnitude,
-            ];
-            if !values.iter().chain(&reported).all(|v| v.is_finite()) {
-                return Err(self.overflow("the energy or an output", t_next, base_next));
-            }
-        }
+        self.guard_outputs(sums.norm_squared, base_next, t_next, force_magnitude)?;
         let base_force = -self.base_supply(base_next, sums.translation, contact_force);
         let base_impulse = self.base_impulse + base_force * dt;
-        let flows = if start {
+        let flows = if input.forcing.start {
             EnergyFlows::default()
         } else {
-            self.step_flows(base_next, -base_force, multipliers.as_deref())
+            self.step_flows(base_next, -base_force, multipliers)
         };
         if !(base_force.is_finite() && base_impulse.is_finite() && flows.is_finite()) {
             return Err(self.overflow(
@@ -641,8 +524,25 @@ impl Stepper {
                 base_next,
             ));
         }
-        // The step succeeded: from here on nothing fails.
-        let active = match &multipliers {
+        Ok(Closing {
+            sums,
+            contact_force,
+            base_force,
+            base_impulse,
+            flows,
+        })
+    }
+
+    /// Adopts a step that succeeded: the trial contact states and forces (or none, when the
+    /// prediction is u_{n+1}), the new level, and the sums and totals `closing` formed.
+    fn accept(
+        &mut self,
+        input: &StepInput,
+        route: Route,
+        solved: Solved,
+        closing: Closing,
+    ) -> StepReport {
+        let active = match &solved.multipliers {
             Some(_) => {
                 std::mem::swap(&mut self.forces, &mut self.trial_forces);
                 std::mem::swap(&mut self.states, &mut self.trial_states);
@@ -656,30 +556,31 @@ impl Stepper {
         };
         if let Law::Newton(_) = self.law {
             // An evaluated prediction that the step accepted unchanged is w_{n+1} at the vertices.
-            let known = !proven && path == StepPath::Unconstrained;
+            let known = route == Route::Checked;
             self.history.advance(known.then_some(&self.prediction[..]));
         }
         self.levels.accept();
+        let Closing { sums, .. } = closing;
         self.current_norm_squared = sums.norm_squared;
         let impact = self.active_count == 0 && active > 0;
         self.active_count = active;
         self.mass_weighted_sums = [self.mass_weighted_sums[1], sums.translation];
-        self.base_force = base_force;
-        self.base_impulse = base_impulse;
-        self.flows = self.flows.plus(&flows);
-        self.base = [z_curr, base_next];
-        self.pressure = [self.pressure[1], p_next];
+        self.base_force = closing.base_force;
+        self.base_impulse = closing.base_impulse;
+        self.flows = self.flows.plus(&closing.flows);
+        self.base = [self.base[1], input.base_next];
+        self.pressure = [self.pressure[1], self.scene.load.pressure];
         self.step_index += 1;
-        Ok(StepReport {
+        StepReport {
             active,
-            path,
-            bounds_evaluated: !proven,
-            warning,
-            base_force,
-            contact_force,
+            path: solved.path,
+            bounds_evaluated: route.bounds_evaluated(),
+            warning: solved.warning,
+            base_force: closing.base_force,
+            contact_force: closing.contact_force,
             impact,
-            flows,
-        })
+            flows: closing.flows,
+        }
     }
 
     /// G_n, the vertical force the base supplies to the plate in the step being solved, from the
@@ -762,154 +663,13 @@ impl Stepper {
         }
     }
 
-    /// Whether the outputs after a step to `base_next`, whose new field has squared norm
-    /// `norm_squared` and whose contact forces sum to `force_magnitude` in absolute value, are
-    /// finite for certain: each output is a sum of at most five products of at most three factors,
-    /// each factor bounded by c·N ([`LinearBackend::magnitude_scale`]) or by the largest of the
-    /// base and load data; below 1e100 for all of them, no output can reach 1e308.
-    fn outputs_provably_finite(
-        &self,
-        norm_squared: f64,
-        base_next: f64,
-        force_magnitude: f64,
-    ) -> bool {
-        let dt = self.scene.solver.time_step;
-        let fields = self.magnitude_scale * norm_squared.max(self.current_norm_squared).max(1.0);
-        let [z_prev, z_curr] = self.base;
-        let data = [
-            z_prev.abs(),
-            z_curr.abs(),
-            base_next.abs(),
-            (base_next - z_curr).abs() / dt,
-            self.scene.load.pressure.abs(),
-            self.pressure[0].abs(),
-            self.pressure[1].abs(),
-            self.free.total_mass / (dt * dt),
-            self.free.area,
-            force_magnitude,
-        ];
-        fields <= 1e100 && data.iter().all(|&v| v <= 1e100)
-    }
-
-    /// The error of a step whose `what` is not finite.
-    fn overflow(&self, what: &str, t_next: f64, base_next: f64) -> Error {
-        Error::Numerical(format!(
-            "{what} became non-finite at t = {t_next} s (base displacement {base_next:e} m, \
-             load.pressure {:e} Pa): the step is refused and the state stays at t = {} s",
-            self.scene.load.pressure,
-            self.time()
-        ))
-    }
-
-    /// Newton's law with restitution e as the bounds on w_{n+1} at the constrained vertices, from
-    /// the prediction in `self.prediction`: [`newton_bounds`] with every position measured from the
-    /// base level z_{n+1} (u − z_{n+1}: the obstacles stay at rest in that frame, so the velocities
-    /// are those relative to the obstacles), which makes its test of a crossing prediction the very
-    /// test w* < g1 − z_{n+1} that decided this step needs a QP. At the start step both stored
-    /// levels are w_0 and both base values z_0 (released at rest, v_0 = 0): no vertex approaches,
-    /// and u_1 is bounded by the obstacles, as under the position law.
-    fn apply_newton_law(&mut self, e: f64, base_next: f64) {
-        let lower = self.scene.lower_obstacle().map(|g| g - base_next);
-        let upper = self.scene.upper_obstacle().map(|g| g - base_next);
-        let [z_prev, z_curr] = self.base.map(|z| z - base_next);
-        let (previous, current) =
-            self.history
-                .values(&*self.backend, &self.levels.previous, &self.levels.current);
-        for i in 0..self.prediction.len() {
-            let motion = VertexMotion {
-                previous: z_prev + previous[i],
-                current: z_curr + current[i],
-                predicted: self.prediction[i],
-            };
-            [self.lower[i], self.upper[i]] = newton_bounds(e, lower, upper, motion);
-        }
-    }
-
-    /// The first constrained vertex of the next level (the contact solve's answer) that lies past
-    /// its bound of this step by more than `tolerance` (m), lower bounds first; a non-finite value
-    /// counts as past.
-    fn first_past_bound(&mut self, tolerance: f64) -> Option<PastBound> {
-        self.backend
-            .constrained_values(&self.levels.next, &mut self.solved);
-        let solved = &self.solved;
-        let find = |side, bound: &[f64], inside: &dyn Fn(f64, f64) -> bool| {
-            (0..solved.len())
-                .find(|&i| !inside(solved[i], bound[i]))
-                .map(|vertex| PastBound {
-                    side,
-                    vertex,
-                    value: solved[vertex],
-                    bound: bound[vertex],
-                })
-        };
-        find(ObstacleSide::Lower, &self.lower, &|w, lo| {
-            w >= lo - tolerance
-        })
-        .or_else(|| {
-            find(ObstacleSide::Upper, &self.upper, &|w, hi| {
-                w <= hi + tolerance
-            })
-        })
-    }
-
-    /// The backend's exact active-set method, warm-started from the last step's contact states,
-    /// into the trial states and the next level: the multipliers and the report's
-    /// [`PdasReport::bound_tolerance`], or the report when it does not converge (the caller falls
-    /// back to clarabel).
-    fn solve_with_active_set(&mut self) -> Result<Result<(Vec<f64>, f64), PdasReport>, Error> {
-        self.trial_states.copy_from_slice(&self.states);
-        let report = self.backend.solve_contact(
-            &mut self.levels.next,
-            &self.prediction,
-            &self.lower,
-            &self.upper,
-            &mut self.trial_states,
-            &self.active_set_settings,
-        )?;
-        Ok(if report.status.is_solved() {
-            Ok((
-                self.backend.contact_multipliers().to_vec(),
-                report.bound_tolerance,
-            ))
-        } else {
-            Err(report)
-        })
-    }
-
-    /// clarabel on the full primal QP min ½wᵀAw − bᵀw over the box, into the trial states;
-    /// returns the multipliers, and a warning when the answer could not be polished.
-    fn solve_with_clarabel(
-        &mut self,
-        forcing: &StepForcing,
-    ) -> Result<(Vec<f64>, Option<String>), Error> {
-        let free = &*self.free;
-        let mut b = vec![0.0; free.load.len()];
-        free.right_hand_side(
-            forcing,
-            &self.backend.to_free_dofs(&self.levels.previous),
-            &self.backend.to_free_dofs(&self.levels.current),
-            &mut b,
-        );
-        let (solution, warning) = solve_reference(&BoxQp {
-            a: free.system_matrix(forcing.start).as_ref(),
-            b: &b,
-            constrained: &free.constrained,
-            lower: &self.lower,
-            upper: &self.upper,
-        })?;
-        self.backend
-            .field_of_free_dofs(&solution.x, &mut self.levels.next);
-        self.trial_states = solution.states;
-        Ok((solution.lambda, warning))
-    }
-
     /// Outputs after the last step, evaluated on demand (O(n): a host that reads them at its
     /// communication points only does not pay for them at every internal step).
     pub fn outputs(&self) -> Outputs {
         let active_nodes = self.states.iter().filter(|s| s.is_active()).count();
         let contact_force = self.forces.iter().sum();
         // The pressure that acted on the last step, not one set since for the next.
-        let (energy, [a, b, c]) = self.energy_and_values(
+        let (energy, [a, b, c]) = self.model().energy_and_values(
             &self.levels.previous,
             &self.levels.current,
             self.base,
@@ -935,22 +695,6 @@ impl Stepper {
         }
     }
 
-    /// The energy between two levels (`previous`, `current`) at base positions `base` under
-    /// `pressure`, and the relative displacement w of `current` at the output points.
-    fn energy_and_values(
-        &self,
-        previous: &[f64],
-        current: &[f64],
-        base: [f64; 2],
-        pressure: f64,
-        at_rest: bool,
-    ) -> (DiscreteEnergy, [f64; 3]) {
-        let dt = self.scene.solver.time_step;
-        let pieces = self.backend.energy(previous, current, dt);
-        let energy = DiscreteEnergy::new(&self.free, pieces, base, pressure, dt, at_rest);
-        (energy, self.backend.output_values(current))
-    }
-
     /// The dynamic state, for FMU get/set/serialize.
     pub fn state(&self) -> State {
         State {
@@ -969,6 +713,22 @@ impl Stepper {
         }
     }
 
+    /// The model a state is checked against ([`Model::check`]).
+    fn model(&self) -> Model<'_> {
+        Model {
+            scene: &self.scene,
+            linear: self.linear,
+            backend: &*self.backend,
+            free: &self.free,
+        }
+    }
+
+    /// Checks a state against this stepper ([`State`], with every check listed at
+    /// [`Stepper::restore`]), for [`Stepper::adopt`].
+    pub(crate) fn check_state<'s>(&self, state: &'s State) -> Result<CheckedState<'s>, Error> {
+        self.model().check(state)
+    }
+
     /// Restores a state taken from a stepper of a scene with the same fixed parameters.
     ///
     /// The state is untrusted input: it is refused, with an error naming the field, unless its
@@ -979,82 +739,15 @@ impl Stepper {
     /// to [`RESTORE_BOUND_TOLERANCE`] of the gap (every impact law keeps every level within
     /// them), and its energies and outputs are finite. Nothing changes unless all of it holds.
     pub fn restore(&mut self, state: &State) -> Result<(), Error> {
-        // A state moves freely between the fast path and the clarabel reference.
-        if state.scene.fixed_part_ignoring_qp() != self.scene.fixed_part_ignoring_qp() {
-            return Err(Error::invalid_state(
-                "scene",
-                "<scene>",
-                "must have the fixed parameters of the running model",
-            ));
-        }
-        state.scene.validate()?;
-        if state.backend != self.linear {
-            return Err(Error::invalid_state(
-                "backend",
-                format!("{:?}", state.backend),
-                &format!("must be the running backend {:?}", self.linear),
-            ));
-        }
-        let (n, m) = (self.backend.dimension(), self.free.constrained.len());
-        for (field, length, expected) in [
-            ("previous", state.previous.len(), n),
-            ("current", state.current.len(), n),
-            ("forces", state.forces.len(), m),
-            ("active_set", state.active_set.len(), m),
-        ] {
-            if length != expected {
-                return Err(Error::invalid_state(
-                    field,
-                    format!("<{length} values>"),
-                    &format!("must hold {expected} values"),
-                ));
-            }
-        }
-        let states = state.check_fields(self.force_tolerance(&state.scene))?;
-        let levels = StoredLevels {
-            step_index: state.step_index,
-            base: state.base,
-            previous: &state.previous,
-            current: &state.current,
-        };
-        let tolerance = RESTORE_BOUND_TOLERANCE * state.scene.gap();
-        match self.first_level_outside(&state.scene, &levels, tolerance) {
-            None => {}
-            Some(LevelOutside::Base { level, error }) => {
-                return Err(Error::invalid_state(
-                    &format!("base[{level}]"),
-                    state.base[level],
-                    &format!("must be inside the gap ({error})"),
-                ));
-            }
-            Some(LevelOutside::Vertex { level, outside }) => {
-                return Err(Error::invalid_state(
-                    &format!("{}[vertex {}]", ["previous", "current"][level], outside.index),
-                    format!("<u = {:?} m>", outside.value),
-                    &format!(
-                        "must put every constrained vertex within the obstacles ({}), to {tolerance:e} m",
-                        obstacle_levels(&state.scene)
-                    ),
-                ));
-            }
-        }
-        let (energy, values) = self.energy_and_values(
-            &state.previous,
-            &state.current,
-            state.base,
-            state.pressure[1],
-            state.step_index == 0,
-        );
-        let force: f64 = state.forces.iter().sum();
-        let reported = [energy.kinetic, energy.elastic, energy.total, force];
-        if let Some(v) = values.iter().chain(&reported).find(|v| !v.is_finite()) {
-            return Err(Error::invalid_state(
-                "current",
-                format!("<an energy or output of {v}>"),
-                "must give finite energies and outputs",
-            ));
-        }
-        // Everything checks out: adopt it.
+        let checked = self.check_state(state)?;
+        self.adopt(checked);
+        Ok(())
+    }
+
+    /// Adopts a state that [`Stepper::check_state`] accepted. The qp choice stays this
+    /// stepper's: a state moves freely between the fast path and the clarabel reference.
+    pub(crate) fn adopt(&mut self, checked: CheckedState) {
+        let CheckedState { state, states } = checked;
         self.levels.previous.copy_from_slice(&state.previous);
         self.levels.current.copy_from_slice(&state.current);
         self.levels.next.copy_from_slice(&state.current);
@@ -1077,44 +770,7 @@ impl Stepper {
         self.history.forget();
         self.states = states;
         self.forces.copy_from_slice(&state.forces);
-        Ok(())
     }
-
-    /// [`RESTORE_FORCE_TOLERANCE`] in newtons for the obstacles of `scene`.
-    fn force_tolerance(&self, scene: &Scene) -> f64 {
-        let a = self.free.system.as_ref();
-        let largest_diagonal = self
-            .free
-            .constrained
-            .iter()
-            .map(|&d| {
-                a.row_idx_of_col(d)
-                    .zip(a.val_of_col(d))
-                    .find(|&(i, _)| i == d)
-                    .map_or(0.0, |(_, &v)| v)
-            })
-            .fold(0.0, f64::max);
-        let dt = scene.solver.time_step;
-        RESTORE_FORCE_TOLERANCE * largest_diagonal * scene.gap() / (dt * dt)
-    }
-}
-
-/// The two stored levels of a stepper or of a state to restore: n, (z_{n−1}, z_n) (m) and the
-/// fields w_{n−1}, w_n in the backend's coordinates.
-struct StoredLevels<'a> {
-    step_index: u64,
-    base: [f64; 2],
-    previous: &'a [f64],
-    current: &'a [f64],
-}
-
-/// Where stored levels leave the obstacles ([`Stepper::first_level_outside`]); `level` is 0 for
-/// n − 1 and 1 for n.
-enum LevelOutside {
-    /// The base value of that level is not strictly inside the gap: the error saying so.
-    Base { level: usize, error: Error },
-    /// A constrained vertex of that level lies past an obstacle.
-    Vertex { level: usize, outside: Outside },
 }
 
 /// The checks a scene must pass before anything is set up: its parameters, then its estimated
@@ -1122,65 +778,4 @@ enum LevelOutside {
 fn check_set_up(scene: &Scene) -> Result<(), Error> {
     scene.validate()?;
     MemoryEstimate::of(scene).check(DEFAULT_MEMORY_BUDGET)
-}
-
-/// A constrained vertex of a step's answer found past its bound of that step.
-#[derive(Clone, Copy, Debug)]
-struct PastBound {
-    side: ObstacleSide,
-    /// Index among the constrained vertices.
-    vertex: usize,
-    /// Its displacement relative to the base, w (m).
-    value: f64,
-    /// Its bound: the obstacle's level relative to the base, or the impact law's bound (m).
-    bound: f64,
-}
-
-impl PastBound {
-    /// "constrained vertex 12 at w = … m relative to the base, past its lower bound … m (the
-    /// lower obstacle or the impact law's bound) by … m, more than the tolerance of … m".
-    fn describe(&self, tolerance: f64) -> String {
-        let side = match self.side {
-            ObstacleSide::Lower => "lower",
-            ObstacleSide::Upper => "upper",
-        };
-        format!(
-            "constrained vertex {} at w = {:e} m relative to the base, past its {side} bound {:e} m \
-             (the {side} obstacle or the impact law's bound) by {:e} m, more than the tolerance \
-             of {tolerance:e} m",
-            self.vertex,
-            self.value,
-            self.bound,
-            (self.value - self.bound).abs()
-        )
-    }
-}
-
-/// The base must stay strictly inside the gap (docs/model.md).
-fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
-    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let inside =
-        base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
-    if inside {
-        Ok(())
-    } else {
-        Err(Error::BaseOutsideGap {
-            time,
-            base,
-            lower,
-            upper,
-        })
-    }
-}
-
-/// The enabled obstacle levels, for messages: "lower −0.01 m, upper 0.01 m".
-fn obstacle_levels(scene: &Scene) -> String {
-    let levels: Vec<String> = [
-        ("lower", scene.lower_obstacle()),
-        ("upper", scene.upper_obstacle()),
-    ]
-    .into_iter()
-    .filter_map(|(name, g)| g.map(|g| format!("{name} {g} m")))
-    .collect();
-    levels.join(", ")
 }

@@ -98,6 +98,40 @@ pub struct SimulationState {
     pub step_start: Option<StepStart>,
 }
 
+impl SimulationState {
+    /// Checks what an untrusted state says about its time grid, communication point, input
+    /// history and contact summaries, for a plate with `constrained` constrained vertices
+    /// (`usize::MAX` where the plate is not known yet): the one check of these fields, for
+    /// [`Simulation::restore`] and the FMU's snapshot validation. Returns the grid, or what is
+    /// wrong.
+    pub fn check(&self, constrained: usize) -> Result<TimeGrid, String> {
+        let grid = TimeGrid {
+            start: self.start_time,
+            step: self.stepper.scene.solver.time_step,
+        };
+        let n = self.stepper.step_index;
+        grid.check_resolves(grid.start)
+            .and_then(|()| grid.check_resolves(grid.time(n)))
+            .map_err(|e| format!("has a time grid that {e}"))?;
+        let elapsed = self.point.elapsed(&grid, n);
+        self.point
+            .check(&grid, n, constrained)
+            .and_then(|()| self.input.check(elapsed))
+            .and_then(|()| {
+                self.contact
+                    .check("contact of the last communication step", n)
+            })
+            .and_then(|()| {
+                let pending = u64::from(matches!(self.point, CommunicationPoint::Between { .. }));
+                self.contact_ahead
+                    .check("contact of the step computed ahead", pending)
+            })
+            .and_then(|()| check_step_start(self.step_start, elapsed))
+            .map_err(|e| format!("is inconsistent: {e}"))?;
+        Ok(grid)
+    }
+}
+
 /// The communication point where the last communication step started: its time and the impulse
 /// of the force on the base there, J(t_k) ([`Simulation::base_mean_force`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -534,32 +568,9 @@ impl Simulation {
     /// checked here, the stepper's fields by [`Stepper::restore`]; nothing changes unless
     /// everything checks out.
     pub fn restore(&mut self, state: &SimulationState) -> Result<(), Error> {
-        let grid = TimeGrid {
-            start: state.start_time,
-            step: state.stepper.scene.solver.time_step,
-        };
-        let n = state.stepper.step_index;
-        let invalid = |limit: String| Error::invalid("FMU state", "<state>", &limit);
-        grid.check_resolves(grid.start)
-            .and_then(|()| grid.check_resolves(grid.time(n)))
-            .map_err(|e| invalid(format!("has a time grid that {e}")))?;
-        state
-            .point
-            .check(&grid, n, self.stepper.constrained_count())
-            .and_then(|()| state.input.check(state.point.elapsed(&grid, n)))
-            .and_then(|()| {
-                state
-                    .contact
-                    .check("contact of the last communication step", n)
-            })
-            .and_then(|()| {
-                let pending = u64::from(matches!(state.point, CommunicationPoint::Between { .. }));
-                state
-                    .contact_ahead
-                    .check("contact of the step computed ahead", pending)
-            })
-            .and_then(|()| check_step_start(state.step_start, state.point.elapsed(&grid, n)))
-            .map_err(|e| invalid(format!("is inconsistent: {e}")))?;
+        let grid = state
+            .check(self.stepper.constrained_count())
+            .map_err(|limit| Error::invalid("FMU state", "<state>", &limit))?;
         self.stepper.restore(&state.stepper)?;
         self.grid = grid;
         self.input = state.input.clone();

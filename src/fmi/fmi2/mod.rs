@@ -4,6 +4,8 @@
 //! machinery and the same plate binding.
 
 pub mod call_state;
+// The exported C functions: `no_mangle` and the raw pointers of the FMI calls.
+#[allow(unsafe_code)]
 pub mod exports;
 pub mod instance;
 

@@ -6,6 +6,8 @@
 //! early return of fmi3DoStep at impacts.
 
 pub mod call_state;
+// The exported C functions: `no_mangle` and the raw pointers of the FMI calls.
+#[allow(unsafe_code)]
 pub mod exports;
 pub mod instance;
 

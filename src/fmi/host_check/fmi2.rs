@@ -1,6 +1,6 @@
 //! The FMI 2.0 host: one instance and its FMU-state slots, through the exported fmi2 functions.
 
-use super::{Host, Observation, Op, ERROR, OK, SLOTS};
+use super::{Host, Observation, Op, StateCalls, ERROR, OK, SLOTS};
 use crate::fmi::fmi2::exports::*;
 use crate::fmi::variables::{vr, Description, Kind, FMI2};
 use std::ffi::CString;
@@ -80,35 +80,41 @@ impl Fmi2Host {
     }
 }
 
+/// A new FMI 2.0 instance named `name`, without callbacks, on the default mesh; panics when the
+/// library refuses it. The caller frees it (`fmi2FreeInstance`).
+pub fn instantiate(name: &str) -> fmi2Component {
+    let callbacks = fmi2CallbackFunctions {
+        logger: None,
+        allocate_memory: None,
+        free_memory: None,
+        step_finished: None,
+        component_environment: std::ptr::null_mut(),
+    };
+    let name = CString::new(name).expect("an instance name without NUL");
+    let guid = CString::new(FMI2.token).expect("the token has no NUL");
+    // SAFETY: valid strings and callbacks for the call.
+    let c = unsafe {
+        fmi2Instantiate(
+            name.as_ptr(),
+            1,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &callbacks,
+            0,
+            0,
+        )
+    };
+    assert!(!c.is_null(), "fmi2Instantiate failed");
+    c
+}
+
 impl Host for Fmi2Host {
     const DESCRIPTION: &'static Description = &FMI2;
     const EVERY_ERROR_FAILS: bool = false;
 
     fn new() -> Fmi2Host {
-        let callbacks = fmi2CallbackFunctions {
-            logger: None,
-            allocate_memory: None,
-            free_memory: None,
-            step_finished: None,
-            component_environment: std::ptr::null_mut(),
-        };
-        let name = CString::new("random").unwrap();
-        let guid = CString::new(FMI2.token).unwrap();
-        // SAFETY: valid strings and callbacks for the call.
-        let c = unsafe {
-            fmi2Instantiate(
-                name.as_ptr(),
-                1,
-                guid.as_ptr(),
-                std::ptr::null(),
-                &callbacks,
-                0,
-                0,
-            )
-        };
-        assert!(!c.is_null(), "fmi2Instantiate failed");
         let host = Fmi2Host {
-            c,
+            c: instantiate("random"),
             states: [std::ptr::null_mut(); SLOTS],
         };
         host.small_mesh();
@@ -242,17 +248,13 @@ impl Host for Fmi2Host {
     }
 
     fn restore_own_state(&mut self) -> Option<fmi2Status> {
-        let c = self.c;
-        let mut s: fmi2FMUstate = std::ptr::null_mut();
-        // SAFETY: `s` is null or a live state of this instance, freed once.
-        unsafe {
-            if fmi2GetFMUstate(c, &mut s) != OK {
-                return None;
-            }
-            let status = fmi2SetFMUstate(c, s);
-            fmi2FreeFMUstate(c, &mut s);
-            Some(status)
-        }
+        let calls = StateCalls {
+            get: fmi2GetFMUstate,
+            set: fmi2SetFMUstate,
+            free: fmi2FreeFMUstate,
+        };
+        // SAFETY: `self.c` is a live instance (it is, from `new` to `drop`).
+        unsafe { calls.take_and_set(self.c) }
     }
 
     fn failed(obs: &Observation) -> bool {

@@ -24,9 +24,38 @@ pub mod fmi3;
 
 use crate::fmi::serialized;
 use crate::fmi::variables::{Description, Kind};
+use std::ffi::c_void;
 
 /// The status codes, the same numbers in FMI 2.0 and FMI 3.0.
 pub const OK: i32 = 0;
+
+/// The FMU-state calls of one FMI version: get, set and free share one C signature in FMI 2.0
+/// and 3.0 (an instance pointer, a state or a pointer to one, a status).
+struct StateCalls {
+    get: unsafe extern "C" fn(*mut c_void, *mut *mut c_void) -> i32,
+    set: unsafe extern "C" fn(*mut c_void, *mut c_void) -> i32,
+    free: unsafe extern "C" fn(*mut c_void, *mut *mut c_void) -> i32,
+}
+
+impl StateCalls {
+    /// Takes the FMU state of instance `c` and sets it again: the status of the set, or `None`
+    /// when no state can be taken.
+    ///
+    /// # Safety
+    /// `c` is a live instance of this library's version of the calls.
+    unsafe fn take_and_set(&self, c: *mut c_void) -> Option<i32> {
+        let mut s: *mut c_void = std::ptr::null_mut();
+        // SAFETY: `s` is null or a live state of this instance, freed once.
+        unsafe {
+            if (self.get)(c, &mut s) != OK {
+                return None;
+            }
+            let status = (self.set)(c, s);
+            (self.free)(c, &mut s);
+            Some(status)
+        }
+    }
+}
 /// Warning.
 pub const WARNING: i32 = 1;
 /// Discard.

@@ -18,7 +18,9 @@ pub use snapshot::PlateSnapshot;
 use crate::advice::StatisticsAdvice;
 use crate::fmi::ffi::panic_text;
 use crate::fmi::logger::{Logger, LOG_WARNING};
-use crate::fmi::model::{Array, Derivative, Model, Phase, StepOptions, StepOutcome, Value};
+use crate::fmi::model::{
+    Array, Checked, Derivative, Model, Phase, StepOptions, StepOutcome, Value,
+};
 use crate::fmi::status::{Failure, Status};
 use crate::fmi::variables::{self, vr, Causality, Description, Start, Variable};
 use crate::scene::Scene;
@@ -517,8 +519,8 @@ impl Model for PlateModel {
         snapshot.validate(phase)
     }
 
-    fn restore(&mut self, snap: &PlateSnapshot, phase: Phase) -> Result<(), Failure> {
-        snap.validate(phase)?;
+    fn restore(&mut self, checked: Checked<'_, PlateSnapshot>) -> Result<(), Failure> {
+        let snap = checked.snapshot();
         self.verdict = OnceCell::new();
         match &snap.simulation {
             None => self.current = false,

@@ -7,7 +7,7 @@ use crate::element::ElementKind;
 use crate::error::Error;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{vr, Kind, Variable, FMI2};
+use crate::fmi::variables::{vr, Causality, Variable, FMI2};
 use crate::scene::Scene;
 use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{bound_tolerance, Outputs};
@@ -29,29 +29,49 @@ fn element_from_code(code: i32) -> Option<ElementKind> {
     }
 }
 
-/// The value of a parameter in `scene`, typed as the variable declares it.
+/// The value of a parameter in `scene`, typed as the variable declares it: a direct field read
+/// ([`field`]), no JSON.
 pub fn parameter(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
-    let json = scene.get(v.name)?;
-    let internal = || {
-        Failure::refused(format!(
-            "{} = {json} has no FMI value (internal error)",
-            v.name
-        ))
-    };
-    Ok(match v.kind {
-        Kind::Real => Value::Real(json.as_f64().ok_or_else(internal)?),
-        Kind::Boolean => Value::Boolean(json.as_bool().ok_or_else(internal)?),
-        Kind::Integer | Kind::Enumeration if v.vr == vr::MESH_ELEMENT => {
-            let kind: ElementKind = serde_json::from_value(json.clone()).map_err(|_| internal())?;
-            Value::Integer(element_code(kind))
-        }
-        Kind::Integer | Kind::Enumeration => Value::Integer(
-            json.as_i64()
-                .and_then(|i| i32::try_from(i).ok())
-                .ok_or_else(internal)?,
-        ),
-        Kind::String | Kind::UInt64 => return Err(internal()),
+    field(scene, v.name).ok_or_else(|| {
+        Failure::refused(format!("{} has no field binding (internal error)", v.name))
     })
+}
+
+/// The field of parameter `name` in `scene` as the FMI value its variable declares: reals as
+/// `Real`, switches as `Boolean`, cell counts and the element family (its [`element_code`]) as
+/// `Integer`. `None` for a name that is no parameter, or a cell count beyond `i32` (no valid
+/// scene has one). A test checks every FMU parameter reads here as through the scene's JSON.
+fn field(s: &Scene, name: &str) -> Option<Value> {
+    let real = |x: f64| Some(Value::Real(x));
+    let count = |n: usize| i32::try_from(n).ok().map(Value::Integer);
+    match name {
+        "plate.length" => real(s.plate.length),
+        "plate.width" => real(s.plate.width),
+        "plate.thickness" => real(s.plate.thickness),
+        "material.young_modulus" => real(s.material.young_modulus),
+        "material.poisson_ratio" => real(s.material.poisson_ratio),
+        "material.density" => real(s.material.density),
+        "mesh.element" => Some(Value::Integer(element_code(s.mesh.element))),
+        "mesh.nx" => count(s.mesh.nx),
+        "mesh.ny" => count(s.mesh.ny),
+        "solver.time_step" => real(s.solver.time_step),
+        "solver.restitution" => real(s.solver.restitution),
+        "obstacle.lower_enabled" => Some(Value::Boolean(s.obstacle.lower_enabled)),
+        "obstacle.upper_enabled" => Some(Value::Boolean(s.obstacle.upper_enabled)),
+        "obstacle.lower" => real(s.obstacle.lower),
+        "obstacle.upper" => real(s.obstacle.upper),
+        "load.pressure" => real(s.load.pressure),
+        "initial.preload_pressure" => real(s.initial.preload_pressure),
+        "base.amplitude" => real(s.base.amplitude),
+        "base.frequency" => real(s.base.frequency),
+        "damping.mass_proportional" => real(s.damping.mass_proportional),
+        "damping.stiffness_proportional" => real(s.damping.stiffness_proportional),
+        "damping.ratio" => real(s.damping.ratio),
+        "damping.frequency_low" => real(s.damping.frequency_low),
+        "damping.frequency_high" => real(s.damping.frequency_high),
+        "damping.modal_ratio" => real(s.damping.modal_ratio),
+        _ => None,
+    }
 }
 
 /// The value of a calculated parameter: the Rayleigh α (`damping.alpha`) or β (`damping.beta`)
@@ -122,12 +142,66 @@ fn isolation_scene(name: &str) -> Scene {
 pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene, Failure> {
     let json = json_value(v, value)?;
     let updated = scene.with(v.name, json.clone())?;
-    if let Err(e) = isolation_scene(v.name).with(v.name, json)?.validate() {
-        if matches!(&e, Error::InvalidParameter { name, .. } if name == v.name) {
-            return Err(e.into());
-        }
-    }
+    check_alone(&isolation_tree(v.name), v, json)?;
     Ok(updated)
+}
+
+/// The JSON tree of [`isolation_scene`] for `name`.
+fn isolation_tree(name: &str) -> serde_json::Value {
+    serde_json::to_value(isolation_scene(name)).expect("a scene always serializes")
+}
+
+/// Checks the JSON value `json` of parameter `v` against its own range: set alone into
+/// `isolation`, the tree of [`isolation_scene`] for `v`, it must leave no limit of `v` broken.
+fn check_alone(
+    isolation: &serde_json::Value,
+    v: &Variable,
+    json: serde_json::Value,
+) -> Result<(), Failure> {
+    let mut tree = isolation.clone();
+    let text = json.to_string();
+    *Scene::slot(&mut tree, v.name)
+        .ok_or_else(|| Error::invalid(v.name, &text, "is not a scene parameter"))? = json;
+    let alone: Scene = serde_json::from_value(tree)
+        .map_err(|e| Error::invalid(v.name, &text, &format!("has the wrong type ({e})")))?;
+    match alone.validate() {
+        Err(e) if matches!(&e, Error::InvalidParameter { name, .. } if name == v.name) => {
+            Err(e.into())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Checks the parameters of an untrusted `scene` as [`with_parameter`] checks each value set:
+/// every FMU parameter within its own range (in the order of the variables), and no scene field
+/// that is not an FMU variable away from its default. Each parameter is read from its field and
+/// the scene rebuilt from them in one JSON tree, not one scene round-trip per parameter.
+pub fn check_parameters(scene: &Scene) -> Result<(), Failure> {
+    let mut rebuilt = serde_json::to_value(Scene::default()).expect("a scene always serializes");
+    let amplitude = "base.amplitude";
+    let [isolation, isolation_amplitude] = ["", amplitude].map(isolation_tree);
+    for v in FMI2
+        .variables
+        .iter()
+        .filter(|v| v.causality == Causality::Parameter)
+    {
+        let json = json_value(v, parameter(scene, v)?)?;
+        let isolation = if v.name == amplitude {
+            &isolation_amplitude
+        } else {
+            &isolation
+        };
+        check_alone(isolation, v, json.clone())?;
+        *Scene::slot(&mut rebuilt, v.name).expect("every parameter is a scene field") = json;
+    }
+    let rebuilt: Scene = serde_json::from_value(rebuilt)
+        .map_err(|e| Failure::refused(format!("its parameters do not form a scene ({e})")))?;
+    if rebuilt != *scene {
+        return Err(Failure::refused(
+            "its scene sets fields that are not FMU variables (stop_time, solver.qp or solver.linear)",
+        ));
+    }
+    Ok(())
 }
 
 /// What the last communication step reports besides the outputs at its end.
@@ -235,6 +309,7 @@ pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fmi::variables::Kind;
     use crate::fmi::variables::{Causality, Start, FMI3};
 
     fn by_name(name: &str) -> Option<&'static Variable> {
@@ -360,5 +435,54 @@ mod tests {
         let nx = by_name("mesh.nx").unwrap();
         assert!(with_parameter(&scene, nx, Value::Integer(-3)).is_err());
         assert!(with_parameter(&scene, nx, Value::Integer(401)).is_err());
+    }
+
+    /// Every FMU parameter reads from its field as through the scene's JSON ([`Scene::get`]),
+    /// on the defaults and on a scene whose every parameter differs from them.
+    #[test]
+    fn every_parameter_reads_its_field_as_the_json_does() {
+        let mut changed = Scene::default();
+        changed.mesh.element = ElementKind::Fvs;
+        (changed.mesh.nx, changed.mesh.ny) = (13, 9);
+        changed.obstacle.lower_enabled = !changed.obstacle.lower_enabled;
+        changed.obstacle.upper_enabled = !changed.obstacle.upper_enabled;
+        let parameters = || {
+            FMI2.variables
+                .iter()
+                .filter(|v| v.causality == Causality::Parameter)
+        };
+        for v in parameters().filter(|v| v.kind == Kind::Real) {
+            let x = match parameter(&changed, v).unwrap() {
+                Value::Real(x) => x,
+                other => panic!("{} reads {other:?}", v.name),
+            };
+            let json = serde_json::Value::from(x * 1.5 + 0.25);
+            changed = changed.with(v.name, json).unwrap();
+        }
+        let mut read = 0;
+        for scene in [Scene::default(), changed] {
+            for v in parameters() {
+                let direct = parameter(&scene, v).unwrap();
+                assert_eq!(direct, typed(v, &scene.get(v.name).unwrap()), "{}", v.name);
+                read += 1;
+            }
+        }
+        assert_eq!(read, 2 * 25, "the 25 FMU parameters");
+    }
+
+    /// The FMI value of parameter `v` from its JSON value in a scene: the reference the direct
+    /// field read is checked against.
+    fn typed(v: &Variable, json: &serde_json::Value) -> Value {
+        match v.kind {
+            Kind::Real => Value::Real(json.as_f64().unwrap()),
+            Kind::Boolean => Value::Boolean(json.as_bool().unwrap()),
+            Kind::Integer | Kind::Enumeration if v.vr == vr::MESH_ELEMENT => {
+                Value::Integer(element_code(serde_json::from_value(json.clone()).unwrap()))
+            }
+            Kind::Integer | Kind::Enumeration => {
+                Value::Integer(i32::try_from(json.as_i64().unwrap()).unwrap())
+            }
+            Kind::String | Kind::UInt64 => panic!("{} is no parameter kind", v.name),
+        }
     }
 }
