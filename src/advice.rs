@@ -28,7 +28,7 @@ use crate::scene::Scene;
 
 /// The damping ratio ζ_hf of the modes above 1/Δt from which the forced 35 Hz scene's statistics
 /// were measured converged (docs/accuracy/damping.md): with β = 5.913e-5 s (ζ₁ = 1 %) the mean
-/// energy is within 0.08 % of its resolved value at ζ_hf = 0.296 (Δt = 1e-4 s) and 1.7 % off at
+/// energy is within 0.09 % of its resolved value at ζ_hf = 0.296 (Δt = 1e-4 s) and 1.7 % off at
 /// ζ_hf = 0.148 (Δt = 2e-4 s).
 pub const CONVERGED_HIGH_MODE_RATIO: f64 = 0.25;
 
@@ -171,7 +171,7 @@ mod tests {
     }
 
     /// Mass-proportional damping and a light modal ratio leave the high modes lightly damped at
-    /// every Δt; the Rayleigh pair of the first look (ζ = 1 % at 53.83 Hz and 5 kHz) is light at
+    /// every Δt; the Rayleigh pair ζ = 1 % at 53.83 Hz and 5 kHz is light at
     /// the paper's Δt.
     #[test]
     fn light_high_frequency_damping_warns() {

@@ -807,7 +807,7 @@ mod tests {
         }
         assert!(c.ratio(omega(500.0)) < 0.01 && c.ratio(omega(20.0)) > 0.01);
         assert!(c.ratio(omega(2e4)) > 0.01);
-        // The first look's pair (f₁ = ω₁/2π of the paper's mesh): α = 6.692 1/s, β = 6.298e-7 s.
+        // The pair ζ = 1 % at f₁ = ω₁/2π of the paper's mesh and 5 kHz: α = 6.692 1/s, β = 6.298e-7 s.
         assert!((c.alpha - 6.692).abs() < 5e-4 && (c.beta - 6.298e-7).abs() < 5e-11);
         assert_eq!(c.modal_ratio, 0.0);
     }

@@ -559,6 +559,12 @@ def write_markdown(study, out):
       "directory. Do not edit by hand. Pointwise trajectories of impact runs do not converge "
       "([README.md](README.md)); this study asks which of the numbers users read from such runs "
       "do, from which Δt and mesh, and at what cost.\n")
+    w("**Read this with [damping.md](damping.md).** The `-damped` scenes of this study are damped "
+      "by mass-proportional Rayleigh damping (α only), which leaves the high modes practically "
+      "undamped: hence most quantities below are not reached at any cost. The shipped preset "
+      "`scenes/forced-35hz-damped.json` is damped by stiffness-proportional damping (β only) instead, "
+      "and its statistics converge in Δt and mesh: the damping study, which compares seven damping "
+      "models, says where.\n")
     parts = int(meta.get("processes", "1"))
     where = ("one after the other in one process" if parts == 1 else
              f"one after the other in each of {parts} processes run side by side (`--forcings`, "
