@@ -332,7 +332,10 @@ class Study:
         n ∝ cells on the modal backend the FMU uses up to 2000 free dofs, its contact-free step
         like n^1.0 (docs/scale/README.md). On small meshes fmpy's per-output cost dominates and
         the CPU grows less (docs/converge example: Argyris 4 × 2 → 9 × 5, 5.6× the cells, 2.1×
-        the CPU), so the estimate errs towards stopping early, not overrunning the budget."""
+        the CPU), so there the estimate errs towards stopping early. It fails where the FMU
+        switches to its sparse backend (above 2000 free dofs, src/backend_choice.rs): Argyris
+        14 × 8 (1115 free dofs, modal) → 21 × 12 (2428, sparse) at Δt = 2.5e-5 s took 1.74 →
+        139.7 CPU s against an estimate of 5.9 s (docs/converge/README.md, Limits)."""
         (nx, ny, dt), (mx, my, et) = known, setting
         return self.cost(known) * (dt / et) * ((mx * my) / (nx * ny)) ** 1.5
 
