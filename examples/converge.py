@@ -105,8 +105,8 @@ PERTURBATION_PA = 1e-4
 SIGMAS = 2.0
 # The mesh ladder's refinement factor per direction: 2.25× the cells per level, about 3.4× the
 # CPU by `estimate`, where halving the cell size (2) would quadruple the cells and cost about 8×;
-# the ladder then lands nearer the coarsest mesh that passes, and a first-order spatial error
-# still shrinks by a third per level, enough for the pair's difference to show it.
+# the ladder then lands nearer the coarsest mesh that passes, while an error of order p in the
+# cell size still shrinks to 1.5^-p per level (2/3 for p = 1), a change a pair can resolve.
 MESH_FACTOR = 1.5
 # Ladder lengths: Δt_0/2^12 and 5 mesh refinements (a 2 × 1 mesh reaches 16 × 8) are far beyond
 # any budget on one machine; they only bound the loop.
@@ -114,7 +114,7 @@ MAX_DT_LEVELS = 12
 MAX_MESH_LEVELS = 5
 # With --mesh: mesh ladder, Δt ladder on the new mesh, … at most this many times each. A round
 # that does not close has refined the mesh at least once more, so 4 rounds reach ≥ 1.5^4 ≈ 5 times
-# the first round's mesh per direction (25× the cells, about 125× the CPU per step by `estimate`):
+# the first round's mesh per direction (26× the cells, about 130× the CPU per step by `estimate`):
 # like the ladder lengths, beyond a one-machine budget; the bound only ends the loop (the
 # documented example closes in its first round).
 MAX_ROUNDS = 4
@@ -170,9 +170,9 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
     md = read_model_description(directory)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     cpu0 = time.thread_time()
-    name = f"converge-{uuid.uuid4().hex}"
+    instance = f"converge-{uuid.uuid4().hex}"
     fmu = FMU2Slave(guid=md.guid, unzipDirectory=directory,
-                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance)
     n = windows * window_steps
     reals = np.empty((n + 1, len(REALS)))
     impacts = np.zeros(n + 1, dtype=np.int64)
@@ -184,7 +184,7 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
             raise ValueError(f"not variables of the FMU: {sorted(unknown)}")
         fmu.enterInitializationMode()
         fmu.exitInitializationMode()
-        warning = next((message for category, message in _LOGGED.get(name, [])
+        warning = next((message for category, message in _LOGGED.get(instance, [])
                         if category == "logStatusWarning" and message.startswith(ADVICE_PREFIX)),
                        None)
         real_vrs = [vr[name] for name in REALS]
@@ -199,7 +199,7 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
         fmu.terminate()
     finally:
         fmu.freeInstance()
-        _LOGGED.pop(name, None)
+        _LOGGED.pop(instance, None)
     cpu = time.thread_time() - cpu0
     return {"windows": window_values(reals, impacts, window_steps * h, windows),
             "warning": warning, "cpu": cpu}, cpu
