@@ -39,21 +39,27 @@ solver.time_step). A quantity has converged between two successive settings a (c
 
     |v_a − v_b| + 2·σ_ab ≤ tol·|v_b|,   σ_ab = √(σ_a² + σ_b²),
 
-i.e. they agree within the tolerance and their difference is resolved by the spread (known to
-2σ, about 95 %, inside the tolerance). When every quantity has converged at the same pair, the
-replicas of b run; if the pair still passes with their spread, b is recommended, the finer of the
-two: for a ladder that converges with order p ≥ 1 its error is about |v_a − v_b|/(2^p − 1), at
-most the difference the report gives as its estimated error. With --mesh the mesh ladder follows
-at that Δt, (nx, ny) → (⌈1.5·nx⌉, ⌈1.5·ny⌉) with the same test, then the Δt ladder again on the
-mesh found (from the pair 2Δt, Δt), and so on until a ladder's first pair passes: the recommended
+i.e. they agree within the tolerance and their difference is resolved by the spread (known to 2σ,
+about 95 %, inside the tolerance). A count (impact_rate) must also pass at the pair before (a's
+coarser neighbour, a): in a periodic response its spread is 0 and equal counts pass, yet it can
+change further down (docs/accuracy/damping.md); each ladder then starts with three settings, not
+two. When every quantity has converged at the same pair, the replicas of b run; if the pair still
+passes with their spread, b is recommended, the finer of the two: for a ladder that converges with
+order p ≥ 1 its error is about |v_a − v_b|/(2^p − 1), at most the difference the report gives as
+its estimated error. With --mesh the mesh ladder follows at that Δt, (nx, ny) → (⌈1.5·nx⌉,
+⌈1.5·ny⌉) with the same test, then the Δt ladder again on the mesh found (from the pair 2Δt, Δt;
+with a count 4Δt, 2Δt, Δt), and so on until a ladder passes at its first settings: the recommended
 setting is then the finer member both of a passing Δt pair and of a passing mesh pair (a Δt
 converged on a coarse mesh need not be on a fine one: the preset's RMS corner changes by 0.6 %
 from Δt = 1e-4 to 5e-5 s on Argyris 2 × 1, by 0.9 % on 9 × 5). Runs not yet made at the start of
 a ladder run in parallel, as do the replicas. The budget counts the CPU time of the runs (each
 worker's thread time); a run is started only if the spent time plus its estimate (`estimate`)
 fits, else the study stops: "not converged", with the trend along the last ladder (and, for Δt,
-the observed order and extrapolated value) and advice: add stiffness-proportional damping when
-ζ_hf < 0.25 (docs/accuracy/damping.md), longer windows when the spread is what fails.
+the observed order and extrapolated value) and advice: the FMU's own warning when the finest
+setting run logged one at initialization (category logStatusWarning, "impact statistics may not
+converge: …", src/advice.rs; the criterion is in docs/accuracy/damping.md), longer windows when the
+spread is what fails, else more budget. Each run keeps the FMU's warning, and the report shows
+which settings warned.
 
 Output: DIR/runs.csv (one row per run and quantity), DIR/report.md, DIR/work_precision.png;
 progress on stderr; the last line of stdout `converged: ...` or `not converged: ...`.
@@ -65,6 +71,7 @@ import math
 import pathlib
 import sys
 import time
+import uuid
 
 import numpy as np
 
@@ -80,23 +87,36 @@ QUANTITIES = {
     "contact_loss_rate": ("W", "energy.contact_loss gained per second"),
     "impact_rate": ("1/s", "contact.impacts per second"),
 }
+# Counts: in a periodic response their window spread is 0, so two settings with the same count
+# pass, yet the count can still change further down the ladder (docs/accuracy/damping.md, β only
+# at 35 Hz: Argyris 14 × 10 counts 2, 2, 2.84 impacts per period at Δt = 1e-4, 1e-5, 1e-6 s).
+# They must agree over one more level: both pairs ending at the recommended setting pass.
+COUNTS = {"impact_rate"}
 REALS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.damping_loss",
          "energy.contact_loss", "base.mean_force"]
 
-# ζ_hf, the lightest damping ratio of the modes the scheme does not resolve (ω ≥ 1/Δt), from
-# which the impact statistics converge (docs/accuracy/damping.md, src/advice.rs).
-CONVERGED_HIGH_MODE_RATIO = 0.25
-# Replicas differ in initial.preload_pressure by this step (Pa), as in examples/studies/statistics.rs.
+# The start of the warning the FMU logs at ExitInitializationMode (src/advice.rs) for settings
+# whose impact statistics may not converge; the study passes it on as its advice.
+ADVICE_PREFIX = "impact statistics may not converge"
+# Replicas differ in initial.preload_pressure by this step (Pa), as in
+# examples/studies/statistics.rs.
 PERTURBATION_PA = 1e-4
 # Confidence factor on the spread of a difference (2σ: about 95 % if Gaussian).
 SIGMAS = 2.0
-# The mesh ladder's refinement factor per direction.
+# The mesh ladder's refinement factor per direction: 2.25× the cells per level, about 3.4× the
+# CPU by `estimate`, where halving the cell size (2) would quadruple the cells and cost about 8×;
+# the ladder then lands nearer the coarsest mesh that passes, while an error of order p in the
+# cell size still shrinks to 1.5^-p per level (2/3 for p = 1), a change a pair can resolve.
 MESH_FACTOR = 1.5
 # Ladder lengths: Δt_0/2^12 and 5 mesh refinements (a 2 × 1 mesh reaches 16 × 8) are far beyond
 # any budget on one machine; they only bound the loop.
 MAX_DT_LEVELS = 12
 MAX_MESH_LEVELS = 5
-# With --mesh: mesh ladder, Δt ladder on the new mesh, … at most this many times each.
+# With --mesh: mesh ladder, Δt ladder on the new mesh, … at most this many times each. A round
+# that does not close has refined the mesh at least once more, so 4 rounds reach ≥ 1.5^4 ≈ 5 times
+# the first round's mesh per direction (26× the cells, about 130× the CPU per step by `estimate`):
+# like the ladder lengths, beyond a one-machine budget; the bound only ends the loop (the
+# documented example closes in its first round).
 MAX_ROUNDS = 4
 
 
@@ -104,12 +124,15 @@ MAX_ROUNDS = 4
 # One run (executed on a worker)
 
 _CALLBACKS = []
+# instance name -> [(category, message)] of the warnings and errors that instance logged.
+_LOGGED = {}
 
 
 def stderr_callbacks():
     """FMI callbacks whose logger prints the FMU's warnings and errors to stderr (fmpy's default
-    prints to stdout, whose last line is the verdict). One per process: fmpy's native logger proxy
-    forwards every message to the last Python logger installed."""
+    prints to stdout, whose last line is the verdict) and keeps them in _LOGGED under the
+    instance's name. One per process: fmpy's native logger proxy forwards every message to the last
+    Python logger installed; the instance name tells apart runs in the threads of one worker."""
     if not _CALLBACKS:
         from ctypes import byref
 
@@ -121,6 +144,8 @@ def stderr_callbacks():
         def log(_env, instance, status, category, message):
             if status >= 1:  # fmi2Warning and worse
                 print(f"[{category.decode()}] {message.decode()}", file=sys.stderr, flush=True)
+                _LOGGED.setdefault(instance.decode(), []).append(
+                    (category.decode(), message.decode()))
 
         callbacks = fmi2CallbackFunctions()
         callbacks.logger = fmi2CallbackLoggerTYPE(log)
@@ -134,8 +159,9 @@ def stderr_callbacks():
 def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps, windows):
     """Simulates the scene `start_values` communicating every `h` seconds (a multiple of its Δt):
     `transient_steps` steps, then `windows` windows of `window_steps` steps each. Returns
-    ({"windows": {quantity: [K window values]}, "alpha": α, "beta": β in use, "cpu": c}, c), c the
-    CPU seconds of this thread (the FMU runs single-threaded in it)."""
+    ({"windows": {quantity: [K window values]}, "warning": w, "cpu": c}, c), w the FMU's warning
+    at initialization that the impact statistics may not converge (None without one), c the CPU
+    seconds of this thread (the FMU runs single-threaded in it)."""
     from fmpy import read_model_description
     from fmpy.fmi2 import FMU2Slave
     from fmpy.simulation import apply_start_values
@@ -144,8 +170,9 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
     md = read_model_description(directory)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     cpu0 = time.thread_time()
+    instance = f"converge-{uuid.uuid4().hex}"
     fmu = FMU2Slave(guid=md.guid, unzipDirectory=directory,
-                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="converge")
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance)
     n = windows * window_steps
     reals = np.empty((n + 1, len(REALS)))
     impacts = np.zeros(n + 1, dtype=np.int64)
@@ -157,7 +184,9 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
             raise ValueError(f"not variables of the FMU: {sorted(unknown)}")
         fmu.enterInitializationMode()
         fmu.exitInitializationMode()
-        alpha, beta = fmu.getReal([vr["damping.alpha"], vr["damping.beta"]])
+        warning = next((message for category, message in _LOGGED.get(instance, [])
+                        if category == "logStatusWarning" and message.startswith(ADVICE_PREFIX)),
+                       None)
         real_vrs = [vr[name] for name in REALS]
         impacts_vr = [vr["contact.impacts"]]
         for k in range(transient_steps):
@@ -170,9 +199,10 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
         fmu.terminate()
     finally:
         fmu.freeInstance()
+        _LOGGED.pop(instance, None)
     cpu = time.thread_time() - cpu0
     return {"windows": window_values(reals, impacts, window_steps * h, windows),
-            "alpha": alpha, "beta": beta, "cpu": cpu}, cpu
+            "warning": warning, "cpu": cpu}, cpu
 
 
 def window_values(reals, impacts, length, windows):
@@ -208,15 +238,6 @@ def value_and_spread(quantity, values):
 # ----------------------------------------------------------------------------------------------
 # The study (client side)
 
-def zeta_hf(alpha, beta, modal, dt):
-    """ζ_hf = min over ω ≥ 1/Δt of α/(2ω) + βω/2 + ζ_m: at ω = max(1/Δt, √(α/β)) with β > 0,
-    ζ_m without (the mass-proportional part vanishes at high ω)."""
-    if beta <= 0:
-        return modal
-    omega = max(1.0 / dt, math.sqrt(alpha / beta))
-    return alpha / (2 * omega) + beta * omega / 2 + modal
-
-
 def observed_order(values):
     """For the last three values of a ladder that halves Δt: the observed order
     p = log2(|v_1 − v_0| / |v_2 − v_1|) and the extrapolated limit v_2 + (v_2 − v_1)/(2^p − 1)
@@ -245,6 +266,8 @@ class Study:
         self.transient_steps = round(transient / dt0)
         self.window_steps = max(1, round(window / dt0))
         self.windows = windows
+        # Settings a ladder starts with: one more for a count (COUNTS), so that it can settle.
+        self.span = 3 if COUNTS & set(self.quantities) else 2
         self.simulated = (self.transient_steps + windows * self.window_steps) * dt0
         self.progress = progress
         self.element = int(self.scene.get("mesh.element", 1))
@@ -304,8 +327,15 @@ class Study:
 
     def estimate(self, known, setting):
         """CPU seconds of `setting` from those of the run setting `known`: ∝ 1/Δt (the FMU's
-        steps; fmpy's per-output cost does not grow, so this overestimates) and ∝ cells^1.5 (a
-        heuristic for the banded solves)."""
+        steps; fmpy's per-output cost does not grow, so this overestimates) and ∝ cells^1.5: the
+        library's step with contact grows like n^1.47 (Argyris) and n^1.61 (FVS) in the free dofs
+        n ∝ cells on the modal backend the FMU uses up to 2000 free dofs, its contact-free step
+        like n^1.0 (docs/scale/README.md). On small meshes fmpy's per-output cost dominates and
+        the CPU grows less (docs/converge example: Argyris 4 × 2 → 9 × 5, 5.6× the cells, 2.1×
+        the CPU), so there the estimate errs towards stopping early. It fails where the FMU
+        switches to its sparse backend (above 2000 free dofs, src/backend_choice.rs): Argyris
+        14 × 8 (1115 free dofs, modal) → 21 × 12 (2428, sparse) at Δt = 2.5e-5 s took 1.74 →
+        139.7 CPU s against an estimate of 5.9 s (docs/converge/README.md, Limits)."""
         (nx, ny, dt), (mx, my, et) = known, setting
         return self.cost(known) * (dt / et) * ((mx * my) / (nx * ny)) ** 1.5
 
@@ -322,14 +352,23 @@ class Study:
         rel = (lambda x: x / scale if scale > 0 else (0.0 if x == 0 else math.inf))
         return passes, rel(diff), rel(sigma)
 
+    def settled(self, ladder, quantity):
+        """Whether `quantity` passes at the ladder's last pair and, for a count (COUNTS), at the
+        pair before it too."""
+        if not self.check(ladder[-2], ladder[-1], quantity)[0]:
+            return False
+        return quantity not in COUNTS or (len(ladder) >= 3
+                                          and self.check(ladder[-3], ladder[-2], quantity)[0])
+
     def fits(self, estimate):
         return self.spent + estimate <= self.budget
 
     def climb(self, client, phase, ladder, refine, levels, reference):
         """Climbs one ladder from the settings `ladder` (≥ 2; those not run yet are run first,
         their cost estimated from the setting `reference`) until every quantity passes at one pair
-        (a, b) and, with replicas, still passes with the replicas' spread of b. Returns b, or None
-        with the verdict set when the budget or the ladder ends first."""
+        (a, b) (a count also at the pair before, `settled`) and, with replicas, still passes with
+        the replicas' spread of b. Returns b, or None with the verdict set when the budget or the
+        ladder ends first."""
         ladder = list(ladder)
         self.ladders.append((phase, ladder))
         passes = self.passes.setdefault(phase, {})
@@ -341,12 +380,12 @@ class Study:
                                  f"{guess:.3g} CPU s) would exceed the budget")
             self.execute(client, phase, [s + (0,) for s in missing])
         while True:
-            a, b = ladder[-2], ladder[-1]
-            checks = {q: self.check(a, b, q) for q in self.quantities}
-            for q, (ok, _, _) in checks.items():
+            b = ladder[-1]
+            settled = {q: self.settled(ladder, q) for q in self.quantities}
+            for q, ok in settled.items():
                 if ok and q not in passes:
                     passes[q] = b
-            if all(ok for ok, _, _ in checks.values()):
+            if all(settled.values()):
                 if self.replicas > 1 and b not in self.replica_spread:
                     guess = (self.replicas - 1) * self.cost(b)
                     if not self.fits(guess):
@@ -381,18 +420,20 @@ class Study:
             return refine_mesh(s[0], s[1]) + (s[2],)
 
         nx, ny = self.mesh0
-        rec = self.climb(client, "dt-1", [(nx, ny, self.dt0), (nx, ny, self.dt0 / 2)], halve,
-                         MAX_DT_LEVELS, None)
+        rec = self.climb(client, "dt-1", [(nx, ny, self.dt0 / 2 ** k) for k in range(self.span)],
+                         halve, MAX_DT_LEVELS, None)
         meshes = [self.mesh0]  # the mesh ladder so far
         for round_ in range(1, MAX_ROUNDS + 1):
             if rec is None or not self.mesh:
                 break
-            # The mesh pair ending at rec's mesh (the first round: the next mesh).
+            # The span of meshes ending at rec's (the first round: rec's and the next ones).
             if len(meshes) == 1:
-                pair = [rec, finer_mesh(rec)]
+                start = [rec]
+                while len(start) < self.span:
+                    start.append(finer_mesh(start[-1]))
             else:
-                pair = [meshes[-2] + rec[2:], rec]
-            new = self.climb(client, f"mesh-{round_}", pair, finer_mesh,
+                start = [m + rec[2:] for m in meshes[-self.span:-1]] + [rec]
+            new = self.climb(client, f"mesh-{round_}", start, finer_mesh,
                              MAX_MESH_LEVELS + 1, rec)
             if new is None or new == rec:
                 rec = new
@@ -400,8 +441,8 @@ class Study:
             ladder = self.ladders[-1][1]
             meshes = [s[:2] for s in ladder]
             rec = new
-            new = self.climb(client, f"dt-{round_ + 1}", [rec[:2] + (2 * rec[2],), rec],
-                             halve, MAX_DT_LEVELS, rec)
+            start = [rec[:2] + (rec[2] * 2 ** k,) for k in range(self.span - 1, -1, -1)]
+            new = self.climb(client, f"dt-{round_ + 1}", start, halve, MAX_DT_LEVELS, rec)
             if new is None or new == rec:
                 rec = new
                 break
@@ -426,11 +467,6 @@ class Study:
         nx, ny, dt = setting
         return f"mesh.element={self.element} mesh.nx={nx} mesh.ny={ny} solver.time_step={dt:.6g}"
 
-    def zeta_hf_at(self, setting):
-        result = self.results[setting + (0,)]
-        return zeta_hf(result["alpha"], result["beta"],
-                       float(self.scene.get("damping.modal_ratio", 0.0)), setting[2])
-
     def stop(self, phase, why):
         ladder = self.ladders[-1][1]
         ladder = [s for s in ladder if s + (0,) in self.results]
@@ -443,25 +479,19 @@ class Study:
                 ok, diff, sigma = self.check(ladder[-2], ladder[-1], q)
                 text += (f" (last refinement {'passes' if ok else 'fails'}: change "
                          f"{100 * diff:.2g} %, 2σ {100 * sigma:.2g} %")
+                if ok and not self.settled(ladder, q):
+                    text += "; a count also needs the refinement before it to pass"
                 if len(values) >= 3 and phase.startswith("dt") and diff > sigma:
                     text += observed_order(values[-3:])  # only for a change the spread resolves
                 text += ")"
                 if not ok and sigma > self.tolerance:
                     spread_limited.append(q)
             self.trends.append(f"{q} {text}")
-        finest = min(ladder, key=lambda s: s[2])
-        zeta = self.zeta_hf_at(finest)
-        beta = self.results[finest + (0,)]["beta"]
-        if zeta < CONVERGED_HIGH_MODE_RATIO:
-            if beta > 0:
-                advice = (f"ζ_hf = {zeta:.3g} < {CONVERGED_HIGH_MODE_RATIO} at Δt = "
-                          f"{finest[2]:.3g} s: refine to Δt ≤ 2β = {2 * beta:.3g} s (more budget) or raise "
-                          "damping.stiffness_proportional; docs/accuracy/damping.md")
-            else:
-                advice = (f"ζ_hf = {zeta:.3g} < {CONVERGED_HIGH_MODE_RATIO}: add stiffness-"
-                          "proportional damping, damping.stiffness_proportional ≥ Δt/2 for ζ_hf ≥ "
-                          f"{CONVERGED_HIGH_MODE_RATIO} (≥ {self.dt0 / 2:.3g} s from the ladder's "
-                          f"first Δt = {self.dt0:.3g} s): docs/accuracy/damping.md")
+        # The finest setting run: smallest Δt, then most cells.
+        finest = min(ladder, key=lambda s: (s[2], -s[0] * s[1]))
+        warning = self.results[finest + (0,)]["warning"]
+        if warning:
+            advice = f"the FMU warns at {self.describe(finest)}: {warning}"
         elif spread_limited:
             advice = (f"the spread of {', '.join(spread_limited)} exceeds the tolerance: longer or "
                       "more windows (--window, --windows), or a looser --tolerance")
@@ -520,10 +550,13 @@ class Study:
                              f"({100 * error / abs(v) if v else 0:.2g} %) | {sd:.3g} | "
                              f"{'; '.join(own)} |")
             lines.append("")
+            warning = self.results[rec + (0,)]["warning"]
+            if warning:
+                lines += [f"The FMU warns at the recommended setting: {warning}", ""]
         else:
             lines += ["Trend along the last ladder:", ""] + [f"- {t}" for t in self.trends]
             lines += ["", f"Advice: {self.advice}", ""]
-        lines += ["## Runs", "", "| ladder | setting | replica | CPU s | ζ_hf | "
+        lines += ["## Runs", "", "| ladder | setting | replica | CPU s | FMU warns | "
                   + " | ".join(f"{q} ({QUANTITIES[q][0]})" for q in self.quantities) + " |",
                   "|---|---|---|---|---|" + "---|" * len(self.quantities)]
         for run in self.order:
@@ -533,8 +566,10 @@ class Study:
                 v, sd = value_and_spread(q, result["windows"][q])
                 cells.append(f"{v:.6g} ± {sd:.2g}")
             lines.append(f"| {self.phase_of[run]} | {self.describe(run[:3])} | {run[3]} | "
-                         f"{result['cpu']:.2f} | {self.zeta_hf_at(run[:3]):.3g} | "
+                         f"{result['cpu']:.2f} | {'yes' if result['warning'] else 'no'} | "
                          + " | ".join(cells) + " |")
+        lines += ["", f"FMU warns: whether the FMU logged \"{ADVICE_PREFIX} …\" at initialization "
+                  "(src/advice.rs, docs/accuracy/damping.md)."]
         if self.replica_spread:
             lines += ["", "Replica check (standard deviation over the replicas against the run's "
                       "window spread):", ""]
