@@ -447,6 +447,11 @@ class Study:
                 rec = new
                 break
             rec = new
+        else:
+            if self.mesh and rec is not None:
+                # Each round moved both ladders: the last Δt found was never checked in the mesh.
+                return self.stop(f"dt-{MAX_ROUNDS + 1}", f"the mesh and Δt ladders alternated "
+                                 f"{MAX_ROUNDS} times without both passing at one setting")
         if rec is None:
             return self.verdict
         self.recommended = rec
