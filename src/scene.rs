@@ -859,6 +859,17 @@ mod tests {
         assert_ne!(s.fixed_part_ignoring_qp(), other.fixed_part_ignoring_qp());
     }
 
+    /// The obstacle levels keep their sign with the obstacle disabled too, as the model
+    /// descriptions' `max` and `min` declare and the FMU checks each value set.
+    #[test]
+    fn a_disabled_obstacle_keeps_its_sign() {
+        let mut s = Scene::default();
+        s.obstacle.upper_enabled = false;
+        s.obstacle.upper = -0.01;
+        let err = s.validate().unwrap_err().to_string();
+        assert!(err.contains("obstacle.upper = -0.01"), "{err}");
+    }
+
     #[test]
     fn base_amplitude_must_stay_inside_the_gap() {
         let mut s = Scene::default();

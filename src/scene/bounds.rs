@@ -54,7 +54,7 @@ const fn open(value: f64) -> Option<Limit> {
 /// A finite value with the given ends, unit and reason.
 const fn bound(
     name: &'static str,
-    (min, max): (Option<Limit>, Option<Limit>),
+    (min, max): Ends,
     unit: &'static str,
     reason: &'static str,
     value: fn(&Scene) -> f64,
@@ -69,14 +69,17 @@ const fn bound(
     }
 }
 
+/// The two ends of a range, each optional.
+type Ends = (Option<Limit>, Option<Limit>);
+
 /// x > 0.
-const POSITIVE: (Option<Limit>, Option<Limit>) = (open(0.0), None);
+const POSITIVE: Ends = (open(0.0), None);
 /// x ≥ 0.
-const NON_NEGATIVE: (Option<Limit>, Option<Limit>) = (closed(0.0), None);
+const NON_NEGATIVE: Ends = (closed(0.0), None);
 /// Any finite x.
-const FINITE: (Option<Limit>, Option<Limit>) = (None, None);
+const FINITE: Ends = (None, None);
 /// 1 ≤ n ≤ [`MAX_CELLS_PER_SIDE`].
-const CELLS: (Option<Limit>, Option<Limit>) = (closed(1.0), closed(MAX_CELLS_PER_SIDE as f64));
+const CELLS: Ends = (closed(1.0), closed(MAX_CELLS_PER_SIDE as f64));
 /// Why the obstacles have a sign.
 const STARTS_BETWEEN: &str = "the plate starts at u = 0 between the obstacles";
 
