@@ -9,6 +9,9 @@ use crate::element::ElementKind;
 use crate::error::Error;
 use serde::{Deserialize, Serialize};
 
+pub mod bounds;
+pub use bounds::{Bound, Limit, BOUNDS};
+
 /// Plate geometry (m). The span `length` runs from the clamped edge x = 0 to the free edge x = Lx.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -240,10 +243,8 @@ impl Damping {
         }
     }
 
-    /// Checks each field's range and their combinations; the error names the parameters at fault.
-    ///
-    /// Long (~115 lines) because it is the list of every parameter's limit in declaration order,
-    /// then the cross-field relations; each check is two to eight lines and independent.
+    /// Checks each field against its range in [`BOUNDS`], then their combinations; the error names
+    /// the parameters at fault.
     pub fn validate(&self) -> Result<(), Error> {
         for (name, v) in [
             ("damping.mass_proportional", self.mass_proportional),
@@ -256,9 +257,7 @@ impl Damping {
             ("damping.frequency_high", self.frequency_high),
             ("damping.modal_ratio", self.modal_ratio),
         ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::invalid(name, v, "must be finite and >= 0"));
-            }
+            bounds::check(name, v)?;
         }
         if self.ratio == 0.0 {
             return Ok(());
@@ -614,25 +613,12 @@ impl Scene {
         self.obstacle.upper_enabled.then_some(self.obstacle.upper)
     }
 
-    /// Checks every parameter against its range; the error names the parameter and the limit.
+    /// Checks every parameter against its own range in [`BOUNDS`] (in the table's order), then the
+    /// limits that tie parameters together; the error names the parameter and the limit.
     pub fn validate(&self) -> Result<(), Error> {
-        let positive = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Error::invalid(name, v, "must be finite and > 0"))
-            }
-        };
-        let finite = |name: &str, v: f64| {
-            if v.is_finite() {
-                Ok(())
-            } else {
-                Err(Error::invalid(name, v, "must be finite"))
-            }
-        };
-        positive("plate.length", self.plate.length)?;
-        positive("plate.width", self.plate.width)?;
-        positive("plate.thickness", self.plate.thickness)?;
+        for bound in &BOUNDS {
+            bound.check((bound.value)(self))?;
+        }
         let shorter_side = self.plate.length.min(self.plate.width);
         if self.plate.thickness > shorter_side {
             return Err(Error::invalid(
@@ -641,68 +627,7 @@ impl Scene {
                 &format!("must not exceed the shorter side {shorter_side} m (Kirchhoff–Love is a thin-plate model)"),
             ));
         }
-        positive("material.young_modulus", self.material.young_modulus)?;
-        let nu = self.material.poisson_ratio;
-        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-            return Err(Error::invalid(
-                "material.poisson_ratio",
-                nu,
-                "must lie in (-1, 0.5) for a stable isotropic material",
-            ));
-        }
-        positive("material.density", self.material.density)?;
-        for (name, n) in [("mesh.nx", self.mesh.nx), ("mesh.ny", self.mesh.ny)] {
-            if n == 0 || n > MAX_CELLS_PER_SIDE {
-                return Err(Error::invalid(
-                    name,
-                    n,
-                    &format!("must lie in [1, {MAX_CELLS_PER_SIDE}]"),
-                ));
-            }
-        }
-        positive("solver.time_step", self.solver.time_step)?;
-        let e = self.solver.restitution;
-        if !(0.0..=1.0).contains(&e) {
-            return Err(Error::invalid(
-                "solver.restitution",
-                e,
-                "must lie in [0, 1]",
-            ));
-        }
-        finite("obstacle.lower", self.obstacle.lower)?;
-        finite("obstacle.upper", self.obstacle.upper)?;
-        if self.obstacle.lower_enabled && self.obstacle.lower >= 0.0 {
-            return Err(Error::invalid(
-                "obstacle.lower",
-                self.obstacle.lower,
-                "must be < 0 (the plate starts at u = 0 between the obstacles)",
-            ));
-        }
-        if self.obstacle.upper_enabled && self.obstacle.upper <= 0.0 {
-            return Err(Error::invalid(
-                "obstacle.upper",
-                self.obstacle.upper,
-                "must be > 0 (the plate starts at u = 0 between the obstacles)",
-            ));
-        }
-        finite("load.pressure", self.load.pressure)?;
-        finite("initial.preload_pressure", self.initial.preload_pressure)?;
         let c = self.base.amplitude;
-        if !(c.is_finite() && c >= 0.0) {
-            return Err(Error::invalid(
-                "base.amplitude",
-                c,
-                "must be finite and >= 0",
-            ));
-        }
-        let f = self.base.frequency;
-        if !(f.is_finite() && f >= 0.0) {
-            return Err(Error::invalid(
-                "base.frequency",
-                f,
-                "must be finite and >= 0",
-            ));
-        }
         let half_gap = [self.lower_obstacle().map(|g| -g), self.upper_obstacle()]
             .into_iter()
             .flatten()
@@ -725,7 +650,6 @@ impl Scene {
                  no eigenbasis to damp mode by mode",
             ));
         }
-        positive("stop_time", self.stop_time)?;
         Ok(())
     }
 }
@@ -933,6 +857,17 @@ mod tests {
         assert_eq!(s.fixed_part_ignoring_qp(), other.fixed_part_ignoring_qp());
         other.solver.time_step *= 2.0;
         assert_ne!(s.fixed_part_ignoring_qp(), other.fixed_part_ignoring_qp());
+    }
+
+    /// The obstacle levels keep their sign with the obstacle disabled too, as the model
+    /// descriptions' `max` and `min` declare and the FMU checks each value set.
+    #[test]
+    fn a_disabled_obstacle_keeps_its_sign() {
+        let mut s = Scene::default();
+        s.obstacle.upper_enabled = false;
+        s.obstacle.upper = -0.01;
+        let err = s.validate().unwrap_err().to_string();
+        assert!(err.contains("obstacle.upper = -0.01"), "{err}");
     }
 
     #[test]

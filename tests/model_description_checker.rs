@@ -9,6 +9,7 @@ mod model_description_fmi3;
 
 use model_description::{check, generate};
 use model_description_fmi3::{check_fmi3, check_same_variables};
+use plate_impact::scene::{Bound, BOUNDS};
 
 const XML: &str = include_str!("../modelDescription/modelDescription.xml");
 const XML3: &str = include_str!("../modelDescription/modelDescription-fmi3.xml");
@@ -405,5 +406,96 @@ fn the_two_descriptions_may_not_drift_apart() {
             ),
         ),
         &["extra.parameter", "only in the FMI 3.0"],
+    );
+}
+
+/// How the parameters of `model` disagree with the bounds table (`plate_impact::scene::BOUNDS`),
+/// one line each: every parameter must declare exactly the table's ends as `min` and `max` (an
+/// open end too: the XML has no exclusive bounds) and its unit, and every table entry but
+/// `stop_time` must be a parameter. The vertex counts of FMI 3.0 are one more than the cell counts.
+fn disagreements_with_bounds(model: &model_description::Model) -> Vec<String> {
+    let mut found = Vec::new();
+    let ends = |b: &Bound| (b.min.map(|l| l.value), b.max.map(|l| l.value));
+    for v in &model.variables {
+        let (expected, unit) = match (v.causality.as_str(), v.name.as_str()) {
+            ("structuralParameter", "mesh.vertex_rows" | "mesh.vertex_columns") => {
+                let (min, max) = ends(Bound::of("mesh.nx").unwrap());
+                ((min.map(|x| x + 1.0), max.map(|x| x + 1.0)), "")
+            }
+            ("parameter", _) => match Bound::of(&v.name) {
+                Some(b) => (ends(b), b.unit),
+                None => ((None, None), ""),
+            },
+            _ => continue,
+        };
+        if (v.min, v.max) != expected {
+            found.push(format!(
+                "{}: min, max = {:?}, the table has {expected:?}",
+                v.name,
+                (v.min, v.max)
+            ));
+        }
+        if v.unit.as_deref().unwrap_or("") != unit {
+            found.push(format!(
+                "{}: unit {:?}, the table has {unit:?}",
+                v.name, v.unit
+            ));
+        }
+    }
+    for b in BOUNDS.iter().filter(|b| b.name != "stop_time") {
+        let declared = model.variables.iter().find(|v| v.name == b.name);
+        if declared.is_none_or(|v| v.causality != "parameter") {
+            found.push(format!("{} is in the table but no parameter", b.name));
+        }
+    }
+    found
+}
+
+#[test]
+fn both_descriptions_declare_the_ranges_of_the_bounds_table() {
+    for model in [check(XML).unwrap(), check_fmi3(XML3).unwrap()] {
+        let found = disagreements_with_bounds(&model);
+        assert!(found.is_empty(), "{}: {found:#?}", model.fmi_version);
+    }
+    // The comparison sees each way a description can drift from the table.
+    for (xml, words) in [
+        (
+            broken(
+                r#"<Real unit="1" start="0.3" min="-1" max="0.5"/>"#,
+                r#"<Real unit="1" start="0.3" min="-1" max="0.49"/>"#,
+            ),
+            "material.poisson_ratio: min, max",
+        ),
+        (
+            broken(
+                r#"<Real unit="m" start="0.4" min="0"/>"#,
+                r#"<Real unit="m" start="0.4"/>"#,
+            ),
+            "plate.length: min, max",
+        ),
+        (
+            broken(
+                r#"<Real unit="Hz" start="10" min="0"/>"#,
+                r#"<Real unit="1/s" start="10" min="0"/>"#,
+            ),
+            "base.frequency: unit",
+        ),
+    ] {
+        let found = disagreements_with_bounds(&check(&xml).unwrap());
+        assert!(
+            found.iter().any(|f| f.starts_with(words)),
+            "{words}: {found:#?}"
+        );
+    }
+    let rows = broken3(
+        r#"start="8" min="2" max="401""#,
+        r#"start="8" min="2" max="400""#,
+    );
+    let found = disagreements_with_bounds(&check_fmi3(&rows).unwrap());
+    assert!(
+        found
+            .iter()
+            .any(|f| f.starts_with("mesh.vertex_rows: min, max")),
+        "{found:#?}"
     );
 }

@@ -46,6 +46,23 @@ impl ElementKind {
             _ => None,
         }
     }
+
+    /// The integer code of the FMU variable `mesh.element`: 1 for Argyris, 2 for FVS.
+    pub fn code(self) -> i32 {
+        match self {
+            ElementKind::Argyris => 1,
+            ElementKind::Fvs => 2,
+        }
+    }
+
+    /// The element family of a `mesh.element` code, the inverse of [`ElementKind::code`].
+    pub fn from_code(code: i32) -> Option<ElementKind> {
+        match code {
+            1 => Some(ElementKind::Argyris),
+            2 => Some(ElementKind::Fvs),
+            _ => None,
+        }
+    }
 }
 
 /// The shape functions of one element on one physical cell.

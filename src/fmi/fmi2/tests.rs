@@ -579,7 +579,7 @@ fn the_element_is_an_integer_parameter() {
     inst.set_integer(&[vr::MESH_ELEMENT], &[2]).unwrap();
     let err = inst.set_integer(&[vr::MESH_ELEMENT], &[3]).unwrap_err();
     assert!(
-        err.message.contains("1 (Argyris") && err.message.contains("2 (FVS"),
+        err.message.contains("1 = Argyris") && err.message.contains("2 = FVS"),
         "{}",
         err.message
     );

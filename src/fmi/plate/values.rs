@@ -4,30 +4,12 @@
 //! fields; the one input is the external base displacement.
 
 use crate::element::ElementKind;
-use crate::error::Error;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
 use crate::fmi::variables::{vr, Causality, Variable, FMI2};
-use crate::scene::Scene;
+use crate::scene::{Bound, Scene};
 use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{bound_tolerance, Outputs};
-
-/// The integer code of `mesh.element` for each element family.
-pub fn element_code(kind: ElementKind) -> i32 {
-    match kind {
-        ElementKind::Argyris => 1,
-        ElementKind::Fvs => 2,
-    }
-}
-
-/// The element family of a `mesh.element` code.
-fn element_from_code(code: i32) -> Option<ElementKind> {
-    match code {
-        1 => Some(ElementKind::Argyris),
-        2 => Some(ElementKind::Fvs),
-        _ => None,
-    }
-}
 
 /// The value of a parameter in `scene`, typed as the variable declares it: a direct field read
 /// ([`field`]), no JSON.
@@ -38,7 +20,7 @@ pub fn parameter(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
 }
 
 /// The field of parameter `name` in `scene` as the FMI value its variable declares: reals as
-/// `Real`, switches as `Boolean`, cell counts and the element family (its [`element_code`]) as
+/// `Real`, switches as `Boolean`, cell counts and the element family (its [`ElementKind::code`]) as
 /// `Integer`. `None` for a name that is no parameter, or a cell count beyond `i32` (no valid
 /// scene has one). A test checks every FMU parameter reads here as through the scene's JSON.
 fn field(s: &Scene, name: &str) -> Option<Value> {
@@ -51,7 +33,7 @@ fn field(s: &Scene, name: &str) -> Option<Value> {
         "material.young_modulus" => real(s.material.young_modulus),
         "material.poisson_ratio" => real(s.material.poisson_ratio),
         "material.density" => real(s.material.density),
-        "mesh.element" => Some(Value::Integer(element_code(s.mesh.element))),
+        "mesh.element" => Some(Value::Integer(s.mesh.element.code())),
         "mesh.nx" => count(s.mesh.nx),
         "mesh.ny" => count(s.mesh.ny),
         "solver.time_step" => real(s.solver.time_step),
@@ -90,27 +72,34 @@ pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
     }
 }
 
-/// The scene's JSON value for an FMI value of parameter `v`; non-finite reals and unknown element
-/// codes are refused, naming the variable.
+/// Checks the FMI value of parameter `v` against its own range in [`BOUNDS`](crate::scene::BOUNDS)
+/// (integers as `f64`, the element family by its code); the switches have no range.
+fn check_own_range(v: &Variable, value: Value) -> Result<(), Failure> {
+    let x = match value {
+        Value::Real(x) => x,
+        Value::Integer(i) => f64::from(i),
+        Value::Boolean(_) | Value::UInt64(_) => return Ok(()),
+    };
+    match Bound::of(v.name) {
+        Some(bound) => Ok(bound.check(x)?),
+        None => Err(Failure::refused(format!(
+            "{} has no range in the bounds table (internal error)",
+            v.name
+        ))),
+    }
+}
+
+/// The scene's JSON value for an FMI value of parameter `v`, already within its range
+/// ([`check_own_range`]).
 fn json_value(v: &Variable, value: Value) -> Result<serde_json::Value, Failure> {
     Ok(match value {
-        Value::Real(x) if !x.is_finite() => {
-            return Err(Error::invalid(v.name, x, "must be finite").into())
-        }
         Value::Real(x) => serde_json::Value::from(x),
         Value::Boolean(b) => serde_json::Value::from(b),
         Value::Integer(code) if v.vr == vr::MESH_ELEMENT => {
-            let kind = element_from_code(code).ok_or_else(|| {
-                Failure::from(Error::invalid(
-                    v.name,
-                    code,
-                    "must be 1 (Argyris triangles) or 2 (FVS quadrilaterals)",
-                ))
+            let kind = ElementKind::from_code(code).ok_or_else(|| {
+                Failure::refused(format!("{} = {code} is no element family", v.name))
             })?;
             serde_json::to_value(kind).expect("an element kind serializes")
-        }
-        Value::Integer(i) if i < 0 => {
-            return Err(Error::invalid(v.name, i, "must be a positive integer").into())
         }
         Value::Integer(i) => serde_json::Value::from(i),
         Value::UInt64(_) => {
@@ -122,54 +111,13 @@ fn json_value(v: &Variable, value: Value) -> Result<serde_json::Value, Failure> 
     })
 }
 
-/// A scene in which no other parameter limits `name`, to check one value on its own: the plate
-/// is made huge (so no thickness is too thick) and, for the sine amplitude, the obstacles absent.
-fn isolation_scene(name: &str) -> Scene {
-    let mut s = Scene::default();
-    s.plate.length = 1e300;
-    s.plate.width = 1e300;
-    if name == "base.amplitude" {
-        s.obstacle.lower_enabled = false;
-        s.obstacle.upper_enabled = false;
-    }
-    s
-}
-
-/// `scene` with parameter `v` set to `value`, after checking the value against its own range
-/// (finite, the limits that do not involve another parameter). Limits that tie parameters together
-/// (thickness below the shorter side, sine amplitude inside the gap) are left to
-/// [`Scene::validate`] on the whole scene, so the order of the sets does not matter.
+/// `scene` with parameter `v` set to `value`, after checking the value against its own range in
+/// [`BOUNDS`](crate::scene::BOUNDS). Limits that tie parameters together (thickness below the
+/// shorter side, sine amplitude inside the gap, the damping pair) are left to [`Scene::validate`]
+/// on the whole scene, so the order of the sets does not matter.
 pub fn with_parameter(scene: &Scene, v: &Variable, value: Value) -> Result<Scene, Failure> {
-    let json = json_value(v, value)?;
-    let updated = scene.with(v.name, json.clone())?;
-    check_alone(&isolation_tree(v.name), v, json)?;
-    Ok(updated)
-}
-
-/// The JSON tree of [`isolation_scene`] for `name`.
-fn isolation_tree(name: &str) -> serde_json::Value {
-    serde_json::to_value(isolation_scene(name)).expect("a scene always serializes")
-}
-
-/// Checks the JSON value `json` of parameter `v` against its own range: set alone into
-/// `isolation`, the tree of [`isolation_scene`] for `v`, it must leave no limit of `v` broken.
-fn check_alone(
-    isolation: &serde_json::Value,
-    v: &Variable,
-    json: serde_json::Value,
-) -> Result<(), Failure> {
-    let mut tree = isolation.clone();
-    let text = json.to_string();
-    *Scene::slot(&mut tree, v.name)
-        .ok_or_else(|| Error::invalid(v.name, &text, "is not a scene parameter"))? = json;
-    let alone: Scene = serde_json::from_value(tree)
-        .map_err(|e| Error::invalid(v.name, &text, &format!("has the wrong type ({e})")))?;
-    match alone.validate() {
-        Err(e) if matches!(&e, Error::InvalidParameter { name, .. } if name == v.name) => {
-            Err(e.into())
-        }
-        _ => Ok(()),
-    }
+    check_own_range(v, value)?;
+    Ok(scene.with(v.name, json_value(v, value)?)?)
 }
 
 /// Checks the parameters of an untrusted `scene` as [`with_parameter`] checks each value set:
@@ -178,21 +126,15 @@ fn check_alone(
 /// the scene rebuilt from them in one JSON tree, not one scene round-trip per parameter.
 pub fn check_parameters(scene: &Scene) -> Result<(), Failure> {
     let mut rebuilt = serde_json::to_value(Scene::default()).expect("a scene always serializes");
-    let amplitude = "base.amplitude";
-    let [isolation, isolation_amplitude] = ["", amplitude].map(isolation_tree);
     for v in FMI2
         .variables
         .iter()
         .filter(|v| v.causality == Causality::Parameter)
     {
-        let json = json_value(v, parameter(scene, v)?)?;
-        let isolation = if v.name == amplitude {
-            &isolation_amplitude
-        } else {
-            &isolation
-        };
-        check_alone(isolation, v, json.clone())?;
-        *Scene::slot(&mut rebuilt, v.name).expect("every parameter is a scene field") = json;
+        let value = parameter(scene, v)?;
+        check_own_range(v, value)?;
+        *Scene::slot(&mut rebuilt, v.name).expect("every parameter is a scene field") =
+            json_value(v, value)?;
     }
     let rebuilt: Scene = serde_json::from_value(rebuilt)
         .map_err(|e| Failure::refused(format!("its parameters do not form a scene ({e})")))?;
@@ -415,7 +357,7 @@ mod tests {
         assert_eq!(scene.mesh.element, ElementKind::Fvs);
         let err = with_parameter(&scene, v, Value::Integer(3)).unwrap_err();
         assert!(
-            err.message.contains("mesh.element") && err.message.contains("2 (FVS"),
+            err.message.contains("mesh.element = 3") && err.message.contains("2 = FVS"),
             "{}",
             err.message
         );
@@ -476,9 +418,11 @@ mod tests {
         match v.kind {
             Kind::Real => Value::Real(json.as_f64().unwrap()),
             Kind::Boolean => Value::Boolean(json.as_bool().unwrap()),
-            Kind::Integer | Kind::Enumeration if v.vr == vr::MESH_ELEMENT => {
-                Value::Integer(element_code(serde_json::from_value(json.clone()).unwrap()))
-            }
+            Kind::Integer | Kind::Enumeration if v.vr == vr::MESH_ELEMENT => Value::Integer(
+                serde_json::from_value::<ElementKind>(json.clone())
+                    .unwrap()
+                    .code(),
+            ),
             Kind::Integer | Kind::Enumeration => {
                 Value::Integer(i32::try_from(json.as_i64().unwrap()).unwrap())
             }
