@@ -16,6 +16,7 @@ mapped to the crate's `#[repr(C)]` struct by name; its size is compared with the
 """
 
 import json
+import os
 import pathlib
 import re
 import subprocess
@@ -180,12 +181,13 @@ def rlib(fmu_path):
 def compile_check(source, rlib, tmp_path):
     path = tmp_path / "fmi_abi.rs"
     path.write_text(source)
+    # The rustc of $RUSTC or the toolchain rustup picks in the crate, as cargo's was.
     return subprocess.run(
-        ["rustc", "--edition", "2021", "--crate-type", "lib", "--crate-name", "fmi_abi",
+        [os.environ.get("RUSTC", "rustc"), "--edition", "2021", "--crate-type", "lib", "--crate-name", "fmi_abi",
          "--emit", "metadata", "-o", str(tmp_path / "libfmi_abi.rmeta"),
          "--extern", f"plate_impact={rlib}", "-L", f"dependency={rlib.parent / 'deps'}",
          "-L", f"dependency={rlib.parent}", str(path)],
-        capture_output=True, text=True)
+        cwd=ROOT, capture_output=True, text=True)
 
 
 @pytest.mark.parametrize("version,count", [(2, 34), (3, 75)])
