@@ -29,8 +29,8 @@ from test_c_host import c_compiler
 
 HEADERS = pathlib.Path(fmpy.__file__).parent / "c-code"
 
-# The C base types the headers build on, and their Rust spellings (x86_64 and aarch64 Linux,
-# Windows: int is 32 bits, enums are int-sized, C bool is one byte like Rust's bool).
+# The C base types the headers build on, and their Rust spellings (on the platforms the FMU is
+# built for, C enums are int-sized and C bool is one byte with Rust bool's values).
 C_TO_RUST = {
     "void": "core::ffi::c_void",
     "char": "core::ffi::c_char",
@@ -47,7 +47,7 @@ C_TO_RUST = {
 }
 
 # The Model Exchange functions of FMI 2.0, which a Co-Simulation-only FMU need not export
-# (FMI 2.0, section 2.1.1; fmi2Functions.h declares them under this heading).
+# (fmi2Functions.h declares them under this heading).
 FMI2_ME_HEADING = "Functions for FMI2 for Model Exchange"
 FMI2_CS_HEADING = "Functions for FMI2 for Co-Simulation"
 
@@ -78,14 +78,14 @@ class Header:
             self.aliases.setdefault(name, decl.strip())
 
     def base(self, words):
-        """The Rust type and constness of a C type name (one or more words)."""
+        """The Rust type of a C type name (one or more words)."""
         name = " ".join(words)
         if name in self.pointers:
-            return self.function_pointer(*self.pointers[name]), False
+            return self.function_pointer(*self.pointers[name])
         if name in self.aliases and self.aliases[name] != name:
-            return self.declaration(self.aliases[name]), False
+            return self.declaration(self.aliases[name])
         if name in C_TO_RUST:
-            return C_TO_RUST[name], False
+            return C_TO_RUST[name]
         raise KeyError(f"no Rust type for the C type {name!r}")
 
     def known(self, words):
@@ -105,7 +105,7 @@ class Header:
         words = [w for w in words if w != "const"]
         if not self.known(words):   # the last word is the parameter's name
             words.pop()
-        rust, _ = self.base(words)
+        rust = self.base(words)
         for token in tokens:
             if token in ("*", "[]"):
                 rust = f"*{'const' if const else 'mut'} {rust}"
