@@ -1,5 +1,7 @@
 //! The exported FMI 2.0 Co-Simulation C functions: the only unsafe code of the crate, as thin as
-//! possible.
+//! possible. Every function of `fmi2Functions.h` but those of Model Exchange, each with the
+//! header's signature (`tests/fmu/test_fmi_abi.py` compiles each export against the header's
+//! function type translated to Rust).
 //!
 //! Each function checks its pointers (a null instance returns fmi2Error; a null array with a
 //! non-zero length is reported through the logger), runs the safe [`Instance`] method inside

@@ -1,7 +1,7 @@
 //! The exported FMI 3.0 C functions: every function of `fmi3Functions.h`, with its exact C
 //! signature (the types below carry the names of `fmi3PlatformTypes.h` and `fmi3FunctionTypes.h`,
-//! and `tests/fmu/test_fmi3_abi.py` compiles each exported prototype against the official header,
-//! so a wrong signature fails that build). Those of features this FMU does not offer (Model
+//! and `tests/fmu/test_fmi_abi.py` compiles each export against the header's function type
+//! translated to Rust, so a wrong signature fails that build). Those of features this FMU does not offer (Model
 //! Exchange, Scheduled Execution, Event Mode, clocks, directional and adjoint derivatives,
 //! per-element dependencies) are checked against the call-state table and refused with fmi3Error
 //! and a message.
@@ -81,8 +81,8 @@ pub type fmi3LockPreemptionCallback = Option<unsafe extern "C" fn()>;
 /// See [`fmi3LockPreemptionCallback`].
 pub type fmi3UnlockPreemptionCallback = Option<unsafe extern "C" fn()>;
 
-// The sizes fmi3PlatformTypes.h gives its types (the names are checked against the header by
-// tests/fmu/test_fmi3_abi.py, the sizes here).
+// The sizes fmi3PlatformTypes.h gives its types (the signatures are checked against the header
+// by tests/fmu/test_fmi_abi.py, the sizes here).
 const _: () = {
     use std::mem::size_of;
     assert!(size_of::<fmi3ValueReference>() == 4 && size_of::<fmi3Float32>() == 4);
