@@ -2,11 +2,12 @@
 fmi3FunctionTypes.h and fmi3PlatformTypes.h): every function of fmi3Functions.h is exported by the
 packaged library, and its Rust signature is the header's.
 
-The Rust signatures are read from src/fmi/fmi3/exports.rs (whose types carry the header's type
-names) and written as C prototypes into a translation unit that includes fmi3Functions.h, which
-declares every function already; C requires a redeclaration to have a compatible type, so a
-wrong parameter or return type fails the compile ("conflicting types"), and each function is
-also assigned to a pointer of its fmi3XxxTYPE. A deliberately wrong prototype must fail it.
+The Rust signatures are read from src/fmi/fmi3/exports.rs and its module exports/unoffered.rs
+(whose types carry the header's type names) and written as C prototypes into a translation unit
+that includes fmi3Functions.h, which declares every function already; C requires a
+redeclaration to have a compatible type, so a wrong parameter or return type fails the compile
+("conflicting types"), and each function is also assigned to a pointer of its fmi3XxxTYPE. A
+deliberately wrong prototype must fail it.
 """
 
 import pathlib
@@ -20,7 +21,8 @@ from conftest import ROOT
 from test_c_host import c_compiler
 
 HEADERS = pathlib.Path(fmpy.__file__).parent / "c-code"
-EXPORTS = ROOT / "src" / "fmi" / "fmi3" / "exports.rs"
+EXPORTS = [ROOT / "src" / "fmi" / "fmi3" / "exports.rs",
+           ROOT / "src" / "fmi" / "fmi3" / "exports" / "unoffered.rs"]
 FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic", f"-I{HEADERS}", "-c"]
 
 
@@ -47,7 +49,7 @@ def expand_macros(text):
 
 
 def c_type(rust):
-    """The C spelling of a Rust parameter or return type of exports.rs."""
+    """The C spelling of a Rust parameter or return type of EXPORTS."""
     rust = rust.strip()
     pointer = re.fullmatch(r"\*(const|mut) (.+)", rust)
     if pointer:
@@ -57,8 +59,8 @@ def c_type(rust):
 
 
 def exported_prototypes():
-    """{name: C prototype} of every `extern "C" fn fmi3…` of exports.rs, macros expanded."""
-    text = expand_macros(EXPORTS.read_text())
+    """{name: C prototype} of every `extern "C" fn fmi3…` of EXPORTS, macros expanded."""
+    text = expand_macros("\n".join(path.read_text() for path in EXPORTS))
     prototypes = {}
     for name, params, ret in re.findall(
             r'pub (?:unsafe )?extern "C" fn (fmi3\w+)\((.*?)\)\s*(?:-> ([^{]+?))?\s*\{', text, re.S):
