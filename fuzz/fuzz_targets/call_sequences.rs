@@ -11,10 +11,8 @@
 
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
-use plate_impact::fmi::host_check::fmi2::Fmi2Host;
-use plate_impact::fmi::host_check::fmi3::Fmi3Host;
 use plate_impact::fmi::host_check::{
-    check_sequence, value_references, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS, TIMES,
+    fuzz_init, fuzz_sequence, value_references, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS, TIMES,
 };
 use plate_impact::fmi::variables::{Description, Kind, FMI2, FMI3};
 
@@ -95,13 +93,7 @@ fn ops(u: &mut Unstructured, d: &Description) -> Result<Vec<Op>> {
 }
 
 fuzz_target!(
-    init: {
-        // libfuzzer-sys aborts at every panic, also one the FMU's C boundary catches (by design,
-        // such as the set-up's panic for a geometry the elements cannot mesh, refused with
-        // Error). Std's default hook instead: a panic that escapes the exported functions, or
-        // an oracle's, still aborts (libfuzzer-sys catches it around this closure).
-        drop(std::panic::take_hook());
-    },
+    init: fuzz_init(),
     |data: &[u8]| {
     let Some((&flags, rest)) = data.split_first() else {
         return;
@@ -112,12 +104,5 @@ fuzz_target!(
     let Ok(ops) = ops(&mut u, d) else {
         return;
     };
-    let result = if fmi3 {
-        check_sequence::<Fmi3Host>(running, &ops)
-    } else {
-        check_sequence::<Fmi2Host>(running, &ops)
-    };
-    if let Err(e) = result {
-        panic!("{e}");
-    }
+    fuzz_sequence(fmi3, running, &ops);
 });

@@ -12,9 +12,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use plate_impact::fmi::host_check::fmi2::Fmi2Host;
-use plate_impact::fmi::host_check::fmi3::Fmi3Host;
-use plate_impact::fmi::host_check::{check_sequence, Op};
+use plate_impact::fmi::host_check::{fuzz_init, fuzz_sequence, Op};
 use plate_impact::fmi::serialized;
 
 /// The most mesh cells a state may ask for (the seeds have 6): larger meshes are legitimate
@@ -39,13 +37,7 @@ fn too_large(bytes: &[u8]) -> bool {
 }
 
 fuzz_target!(
-    init: {
-        // libfuzzer-sys aborts at every panic, also one the FMU's C boundary catches (by design,
-        // such as the set-up's panic for a geometry the elements cannot mesh, refused with
-        // Error). Std's default hook instead: a panic that escapes the exported functions, or
-        // an oracle's, still aborts (libfuzzer-sys catches it around this closure).
-        drop(std::panic::take_hook());
-    },
+    init: fuzz_init(),
     |data: &[u8]| {
     let Some((&flags, rest)) = data.split_first() else {
         return;
@@ -66,12 +58,5 @@ fuzz_target!(
         Op::DoStep(3.0, false),
         Op::DoStep(10.0, false),
     ];
-    let result = if flags & 1 != 0 {
-        check_sequence::<Fmi3Host>(false, &ops)
-    } else {
-        check_sequence::<Fmi2Host>(false, &ops)
-    };
-    if let Err(e) = result {
-        panic!("{e}");
-    }
+    fuzz_sequence(flags & 1 != 0, false, &ops);
 });

@@ -366,3 +366,25 @@ pub fn check_sequence<H: Host>(running: bool, ops: &[Op]) -> Result<usize, Strin
     }
     Ok(steps)
 }
+
+/// The fuzz targets' check: runs `ops` as [`check_sequence`] does, on FMI 3.0 when `fmi3`, else
+/// on FMI 2.0, and panics with the first call that went wrong and how (a finding of the fuzzer).
+pub fn fuzz_sequence(fmi3: bool, running: bool, ops: &[Op]) {
+    let result = if fmi3 {
+        check_sequence::<fmi3::Fmi3Host>(running, ops)
+    } else {
+        check_sequence::<fmi2::Fmi2Host>(running, ops)
+    };
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}
+
+/// The fuzz targets' `init`: std's default panic hook instead of libfuzzer-sys's, which aborts at
+/// every panic, also one the FMU's C boundary catches (by design, such as the set-up's panic for
+/// a geometry the elements cannot mesh, refused with Error). With std's hook, a panic that
+/// escapes the exported functions, or an oracle's, still aborts (libfuzzer-sys catches it around
+/// the target's closure).
+pub fn fuzz_init() {
+    drop(std::panic::take_hook());
+}
