@@ -39,14 +39,20 @@ pub struct EnergyPieces {
     pub load_previous: f64,
 }
 
-/// Two sums over a field that every step needs, formed in one pass.
+/// The sums over a field that every step needs, formed in one pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FieldSums {
-    /// ‖x‖², the squared Euclidean norm in the backend's coordinates: finite exactly when every
-    /// entry is finite and none is beyond ~1e154.
+    /// An upper bound on ‖x‖², the squared Euclidean norm in the backend's coordinates, equal to
+    /// it to round-off from [`LinearBackend::field_sums`] (a prediction may give a looser one,
+    /// see the modal backend's reach): finite exactly when every entry is finite and none is
+    /// beyond ~1e154.
     pub norm_squared: f64,
     /// m₁ᵀw = 𝟙ᵀM w, the mass-weighted sum of the relative displacement (kg·m).
     pub translation: f64,
+    /// For a prediction x = w_{n+1}: (x − w_{n−1})ᵀC(x − w_{n−1}) with C the damping matrix, when
+    /// the backend formed it in the same pass (it then equals
+    /// [`LinearBackend::damping_quadratic`] to round-off); `None` otherwise.
+    pub damping: Option<f64>,
 }
 
 /// The linear part of the scheme in one set of coordinates (see the module docs). A field is a
@@ -61,8 +67,10 @@ pub trait LinearBackend: Send {
     /// (`forcing.start`) A is the undamped A₀, and so is the system that
     /// [`LinearBackend::solve_contact`] then uses. Returns the
     /// prediction's [`FieldSums`] from passes the backend makes anyway: the translation bit for
-    /// bit as [`LinearBackend::field_sums`] gives it, the norm to round-off. An error is a failure
-    /// to factor the step's matrix.
+    /// bit as [`LinearBackend::field_sums`] gives it, the norm as an upper bound (equal to it to
+    /// round-off, or looser: the modal backend bounds it from its screening's reference), the
+    /// damping quadratic when the backend formed it. An error is a failure to factor the step's
+    /// matrix.
     fn predict(
         &mut self,
         previous: &[f64],

@@ -120,6 +120,7 @@ impl LinearBackend for SparseBackend {
         FieldSums {
             norm_squared: sum_of_squares(field),
             translation: dot(&self.free.translation_mass, field),
+            damping: None,
         }
     }
 

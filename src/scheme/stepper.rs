@@ -515,7 +515,9 @@ impl Stepper {
         let flows = if input.forcing.start {
             EnergyFlows::default()
         } else {
-            self.step_flows(base_next, -base_force, multipliers)
+            // The prediction's damping quadratic holds when the step kept the prediction.
+            let damping = multipliers.map_or(input.sums.damping, |_| None);
+            self.step_flows(base_next, -base_force, multipliers, damping)
         };
         if !(base_force.is_finite() && base_impulse.is_finite() && flows.is_finite()) {
             return Err(self.overflow(
@@ -614,12 +616,14 @@ impl Stepper {
     /// The energy flows of the step being solved (not the start step), with `supply` = G_n and
     /// the QP multipliers μ of its contact solve, if any: base work
     /// ½(z_{n+1} − z_{n−1})G_n, load work net of the load potential's change, contact loss
-    /// −½ f_nᵀB(u_{n+1} − u_{n−1}) and damping loss Δwᵀ C Δw / (4Δt) (see [`EnergyFlows`]).
+    /// −½ f_nᵀB(u_{n+1} − u_{n−1}) and damping loss Δwᵀ C Δw / (4Δt) (see [`EnergyFlows`]), whose
+    /// quadratic Δwᵀ C Δw the backend's pass may already have formed (`damping_quadratic`).
     fn step_flows(
         &mut self,
         base_next: f64,
         supply: f64,
         multipliers: Option<&[f64]>,
+        damping_quadratic: Option<f64>,
     ) -> EnergyFlows {
         let dt = self.scene.solver.time_step;
         let [z_prev, z_curr] = self.base;
@@ -653,7 +657,8 @@ impl Stepper {
         let damping_loss = if self.free.damping.is_zero() {
             0.0
         } else {
-            self.backend.damping_quadratic(next, previous) / (4.0 * dt)
+            damping_quadratic.unwrap_or_else(|| self.backend.damping_quadratic(next, previous))
+                / (4.0 * dt)
         };
         EnergyFlows {
             base_work: 0.5 * stroke * supply,
