@@ -11,7 +11,7 @@ study's own runs, reading its outputs at every step) twice, one after the other 
 internal step the CPU difference over the E steps; less the cost of one communication step with
 its reads, taken as that of the Argyris 2 × 1 mesh, this is the step's own cost. The set-up is
 the short run's CPU less its 2000 steps (on the sparse backend it is small against the steps and
-the first steps, with fewer contacts, are cheaper: the model leaves it out). About 4 CPU minutes
+the first steps, with fewer contacts, are cheaper: the model leaves it out). About 3 CPU minutes
 on a 2-core development machine. Prints a CSV row per mesh, then RUN_COST to stderr.
 """
 
