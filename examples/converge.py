@@ -103,10 +103,11 @@ ADVICE_PREFIX = "impact statistics may not converge"
 PERTURBATION_PA = 1e-4
 # Confidence factor on the spread of a difference (2σ: about 95 % if Gaussian).
 SIGMAS = 2.0
-# The mesh ladder's refinement factor per direction: 2.25× the cells per level, about 3.4× the
-# CPU by `estimate`, where halving the cell size (2) would quadruple the cells and cost about 8×;
-# the ladder then lands nearer the coarsest mesh that passes, while an error of order p in the
-# cell size still shrinks to 1.5^-p per level (2/3 for p = 1), a change a pair can resolve.
+# The mesh ladder's refinement factor per direction: 2.25× the cells per level, about 3.8× the
+# CPU per modal step by `run_cost` (n^1.6), where halving the cell size (2) would quadruple the
+# cells and cost about 10×; the ladder then lands nearer the coarsest mesh that passes, while an
+# error of order p in the cell size still shrinks to 1.5^-p per level (2/3 for p = 1), a change a
+# pair can resolve.
 MESH_FACTOR = 1.5
 # Ladder lengths: Δt_0/2^12 and 5 mesh refinements (a 2 × 1 mesh reaches 16 × 8) are far beyond
 # any budget on one machine; they only bound the loop.
@@ -114,9 +115,10 @@ MAX_DT_LEVELS = 12
 MAX_MESH_LEVELS = 5
 # With --mesh: mesh ladder, Δt ladder on the new mesh, … at most this many times each. A round
 # that does not close has refined the mesh at least once more, so 4 rounds reach ≥ 1.5^4 ≈ 5 times
-# the first round's mesh per direction (26× the cells, about 130× the CPU per step by `estimate`):
-# like the ladder lengths, beyond a one-machine budget; the bound only ends the loop (the
-# documented example closes in its first round).
+# the first round's mesh per direction (26× the cells, about 200× the CPU per modal step by
+# `run_cost`, more across the switch to the sparse backend): like the ladder lengths, beyond a
+# one-machine budget; the bound only ends the loop (the documented example closes in its first
+# round).
 MAX_ROUNDS = 4
 
 
@@ -253,6 +255,60 @@ def refine_mesh(nx, ny):
     return math.ceil(MESH_FACTOR * nx), math.ceil(MESH_FACTOR * ny)
 
 
+# The FMU's linear backend (src/backend_choice.rs, `resolve`): the FMU has no solver.linear, so
+# `auto` decides: the dense modal backend up to this many free dofs, the sparse one above, and the
+# modal one at every size when damping.modal_ratio > 0 (modal damping needs the eigenbasis).
+MODAL_AUTO_LIMIT = 2000
+# The cost model of a run (`run_cost`), per (mesh.element, backend): its set-up, (s, p), and its
+# internal step, (µs, p), each c·(n/1000)^p in the free dofs n; plus a communication step with the
+# study's reads. Measured through the FMU on the preset forced-35hz-damped at Δt = h = 1e-4 s
+# (examples/converge_step_cost.py; a 2-core development machine, load average about 2): per
+# internal step 6.6 → 35 µs from Argyris 10 × 7 to 20 × 10 (708 → 1951 free dofs, modal), 1655 µs
+# on 21 × 12 (2428, sparse), 3224 on 30 × 15 and 6002 on 40 × 20; FVS 12 → 70 µs from 14 × 10 to
+# 30 × 15 (462 → 1440, modal), 1360 on 40 × 20 (2520, sparse) and 3224 on 60 × 30. The modal set-up
+# (the eigen-decomposition) grows like n^2.7 and takes 4.9 s at 1951 free dofs; the sparse one is
+# small against its steps and left out. Only ratios of the model enter the estimate
+# (`Study.estimate`), so a slower machine scales both sides.
+RUN_COST = {
+    (1, "modal"): ((0.738, 2.74), (11.6, 1.64)),
+    (1, "sparse"): ((0.0, 0.0), (605.0, 1.14)),
+    (2, "modal"): ((1.13, 2.22), (37.2, 1.62)),
+    (2, "sparse"): ((0.0, 0.0), (499.0, 1.09)),
+}
+COMMUNICATION_STEP_US = 9.23  # doStep and the reads through fmpy, on Argyris 2 × 1
+
+
+def free_dofs(element, nx, ny):
+    """The free dofs of an nx × ny mesh, counted as src/budget.rs (`ProblemSize::of`) does:
+    Argyris 6 per vertex and 1 per edge (diagonals included), the clamped edge x = 0 holding 5 per
+    vertex and its edges' one each; FVS 3 per vertex, the clamped column's all held."""
+    vertices = (nx + 1) * (ny + 1)
+    if element == 1:
+        edges = nx * (ny + 1) + (nx + 1) * ny + nx * ny
+        return 6 * vertices + edges - (5 * (ny + 1) + ny)
+    if element == 2:
+        return 3 * vertices - 3 * (ny + 1)
+    raise ValueError(f"mesh.element {element}: 1 (Argyris) or 2 (FVS)")
+
+
+def backend(scene, element, nx, ny):
+    """The linear backend the FMU picks for the start values `scene` on an nx × ny mesh of
+    `element`: "modal" or "sparse" (src/backend_choice.rs)."""
+    if float(scene.get("damping.modal_ratio", 0.0)) > 0:
+        return "modal"
+    return "modal" if free_dofs(element, nx, ny) <= MODAL_AUTO_LIMIT else "sparse"
+
+
+def run_cost(scene, element, nx, ny, dt, simulated, h):
+    """The model's CPU seconds (RUN_COST) of a run of `simulated` seconds at Δt = `dt` on an
+    nx × ny mesh of `element`, outputs read every `h`: the set-up, simulated/Δt internal steps and
+    simulated/h communication steps, on the backend the FMU picks (`backend`)."""
+    (setup, p_setup), (step, p_step) = RUN_COST[(element, backend(scene, element, nx, ny))]
+    n = free_dofs(element, nx, ny) / 1000
+    return (setup * n ** p_setup + 1e-6 * step * n ** p_step * simulated / dt
+            + 1e-6 * COMMUNICATION_STEP_US * simulated / h)
+
+
 class Study:
     """The ladders, their runs and the decisions (module docs). A setting is (nx, ny, Δt); a run
     is a setting and its replica index. `run(client)` returns the verdict line; `rows`, `report`
@@ -326,18 +382,19 @@ class Study:
         return self.results[setting + (0,)]["cpu"]
 
     def estimate(self, known, setting):
-        """CPU seconds of `setting` from those of the run setting `known`: ∝ 1/Δt (the FMU's
-        steps; fmpy's per-output cost does not grow, so this overestimates) and ∝ cells^1.5: the
-        library's step with contact grows like n^1.47 (Argyris) and n^1.61 (FVS) in the free dofs
-        n ∝ cells on the modal backend the FMU uses up to 2000 free dofs, its contact-free step
-        like n^1.0 (docs/scale/README.md). On small meshes fmpy's per-output cost dominates and
-        the CPU grows less (docs/converge example: Argyris 4 × 2 → 9 × 5, 5.6× the cells, 2.1×
-        the CPU), so there the estimate errs towards stopping early. It fails where the FMU
-        switches to its sparse backend (above 2000 free dofs, src/backend_choice.rs): Argyris
-        14 × 8 (1115 free dofs, modal) → 21 × 12 (2428, sparse) at Δt = 2.5e-5 s took 1.74 →
-        139.7 CPU s against an estimate of 5.9 s (docs/converge/README.md, Limits)."""
-        (nx, ny, dt), (mx, my, et) = known, setting
-        return self.cost(known) * (dt / et) * ((mx * my) / (nx * ny)) ** 1.5
+        """CPU seconds of `setting` from those of the run setting `known`: its cost times the
+        ratio of the two settings' model costs (`run_cost`), each on the backend the FMU picks for
+        its mesh (`backend`: modal up to 2000 free dofs, sparse above). Within the modal backend
+        a step grows like n^1.6 and the set-up like n^2.2–2.7; across the switch an internal step
+        costs some 50 to 100 times more (Argyris 20 × 10, 1951 free dofs, modal: 35 µs; 21 × 12,
+        2428, sparse: 1655 µs). Halving Δt doubles the internal steps but not the set-up nor the
+        communication steps (h is fixed). On small meshes fmpy's cost per output dominates, which
+        the model's communication step does not fully hold (docs/converge example: Argyris
+        4 × 2 → 9 × 5, 5.6× the cells, 2.1× the CPU), so there the estimate errs towards stopping
+        early."""
+        e, simulated, h = self.element, self.simulated, self.h
+        return self.cost(known) * (run_cost(self.scene, e, *setting, simulated, h)
+                                   / run_cost(self.scene, e, *known, simulated, h))
 
     # -- decisions
 

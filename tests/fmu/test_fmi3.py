@@ -1,6 +1,7 @@
 """The FMI 3.0 FMU through fmpy: its package and description, the same numbers as the FMI 2.0
 FMU bit for bit (shipped scenes and the input path), early return at impacts, the displacement
-field as an array, Configuration Mode, errors that end in Terminated, and the FMU state."""
+field as an array, Configuration Mode, errors that end in Terminated, the FMU state, and the
+refusal of the interface types it does not offer."""
 
 import math
 import zipfile
@@ -296,3 +297,29 @@ def test_fmu_state_round_trips(new_plate3):
     with pytest.raises(FMICallException):
         deserialized(b, data[:-1])
     assert any("serialized FMU state" in m for m in b.errors())
+
+
+def test_the_interface_types_not_offered_are_refused_with_a_message(fmu3_path, tmp_path):
+    """fmi3InstantiateModelExchange and fmi3InstantiateScheduledExecution return no instance and
+    tell the host's logger (status fmi3Error) that the FMU is Co-Simulation only; without a logger
+    they return none all the same. Straight through ctypes: fmpy instantiates only what the model
+    description offers."""
+    import ctypes
+
+    with zipfile.ZipFile(fmu3_path) as z:
+        z.extract("binaries/x86_64-linux/PlateImpact.so", tmp_path)
+    lib = ctypes.CDLL(str(tmp_path / "binaries" / "x86_64-linux" / "PlateImpact.so"))
+    logger_type = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p,
+                                   ctypes.c_char_p)
+    logged = []
+    logger = logger_type(lambda _env, status, category, message: logged.append(
+        (status, category.decode(), message.decode())))
+    for name, callbacks in [("fmi3InstantiateModelExchange", []),
+                            ("fmi3InstantiateScheduledExecution", [None, None, None])]:
+        function = getattr(lib, name)
+        function.restype = ctypes.c_void_p
+        logged.clear()
+        assert function(b"refused", b"token", None, False, False, None, logger, *callbacks) is None
+        assert logged == [(3, "logStatusError", f"{name}: this FMU supports Co-Simulation only "
+                                                "(fmi3InstantiateCoSimulation)")]
+        assert function(b"refused", b"token", None, False, False, None, None, *callbacks) is None

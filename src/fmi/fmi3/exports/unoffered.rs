@@ -30,9 +30,11 @@ pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     instanceEnvironment: fmi3InstanceEnvironment,
     logMessage: fmi3LogMessageCallback,
 ) -> fmi3Instance {
-    let message = "fmi3InstantiateModelExchange: this FMU supports Co-Simulation only (fmi3InstantiateCoSimulation)";
-    let _ = catch_unwind(|| report(logMessage, instanceEnvironment, message));
-    std::ptr::null_mut()
+    refuse_instantiation(
+        "fmi3InstantiateModelExchange",
+        instanceEnvironment,
+        logMessage,
+    )
 }
 
 #[no_mangle]
@@ -48,8 +50,26 @@ pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
     _lockPreemption: fmi3LockPreemptionCallback,
     _unlockPreemption: fmi3UnlockPreemptionCallback,
 ) -> fmi3Instance {
-    let message = "fmi3InstantiateScheduledExecution: this FMU supports Co-Simulation only (fmi3InstantiateCoSimulation)";
-    let _ = catch_unwind(|| report(logMessage, instanceEnvironment, message));
+    refuse_instantiation(
+        "fmi3InstantiateScheduledExecution",
+        instanceEnvironment,
+        logMessage,
+    )
+}
+
+/// The refusal of an interface type this FMU does not offer: tells the host's logger that
+/// `function` is not available, the FMU being Co-Simulation only, and returns no instance.
+fn refuse_instantiation(
+    function: &str,
+    environment: fmi3InstanceEnvironment,
+    logger: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    let _ = catch_unwind(|| {
+        let message = format!(
+            "{function}: this FMU supports Co-Simulation only (fmi3InstantiateCoSimulation)"
+        );
+        report(logger, environment, &message)
+    });
     std::ptr::null_mut()
 }
 
