@@ -29,14 +29,17 @@ correction), and the rest R, the plate's elastic, damping and contact reaction. 
   extrapolation: first order in h.
 * iterated: as mean, then the plate is put back (fmi2SetFMUstate) and steps again on the quadratic
   from the shaker's new motion, the shaker again under the new reaction, and so on (secant steps on
-  R) until R changes by less than 1e-12 of itself; then both are kept. Second order in h.
+  R) until R changes by less than 1e-12 of the larger of R and the coil force's amplitude (R alone
+  would ask, when R passes near zero, for less than the round-off of the plate's force, about
+  1e-11 N: a second difference of displacements divided by dt^2); then both are kept. Second
+  order in h.
 * moments: as iterated, but the shaker gets the line R + beta (s - c) that has both the impulse and
   the first moment M = sum_n R_n (t_n - c) dt of the plate's reaction about the window's centre c
   (beta = 12 M / h^3), so that the force's variation within the step works on the shaker as it
   does on the plate. The FMU has no output for M: here the plate steps through each communication
   step in calls of one internal step (the same quadratic, sampled at each t_n) and M is summed from
   their base.mean_force, an instrument that stands in for such an output (and costs h/dt calls).
-  Fixed-point steps on the slope, until it changes by less than 1e-12 of R.
+  Fixed-point steps on the slope, until it changes by less than 1e-12 of that same scale.
 
 The constant R over a step gives the shaker exactly the impulse the plate gave its base. The work
 differs by what no single force per step can carry: the plate's base work is
@@ -317,9 +320,10 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
                     plate.setFMUstate(state)
                     rest, new_slope = reaction(plan)
                     change = rest - guess
-                    settled = abs(new_slope - slope) * h <= tolerance * max(1.0, abs(rest))
+                    scale = max(DRIVE_AMPLITUDE, abs(rest))
+                    settled = abs(new_slope - slope) * h <= tolerance * scale
                     slope = new_slope
-                    if abs(change) <= tolerance * max(1.0, abs(rest)) and settled:
+                    if abs(change) <= tolerance * scale and settled:
                         if coupling == "moments":
                             shaker, plan = shaken(rest, slope)
                         break
