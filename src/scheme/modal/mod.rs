@@ -279,6 +279,10 @@ pub struct ModalBackend {
     /// Whether every screening level failed on the last prediction, leaving in `low_values` the
     /// last level's partial product.
     screened: bool,
+    /// Whether every screening level failed on the last prediction that the reach did not
+    /// cover, kept across steps: the next prediction then tries the last level first
+    /// ([`ModalBackend::last_level_fails`]).
+    near: bool,
     /// Whether [`LinearBackend::prediction_values`] handed the contact solve of this step a
     /// proven-inside stand-in for some vertices (see [`ModalBackend::exact_values_reached`]).
     stand_ins: bool,
@@ -310,6 +314,7 @@ impl ModalBackend {
             reach: Reach::none(data.omega_squared.len()),
             moved_squared: f64::INFINITY,
             screened: false,
+            near: false,
             stand_ins: false,
             stand_in: vec![false; data.c.nrows()],
             slack: vec![0.0; data.c.nrows()],
@@ -352,6 +357,36 @@ impl ModalBackend {
             }
         }
         reached
+    }
+
+    /// Near an obstacle, where every level would fail: forms the last level's low-mode part
+    /// ŷ = C_L q_L in `low_values` with one product and returns whether some vertex is not
+    /// proven inside by it. When it returns true, the levels would all have failed (each
+    /// level's remainder bound is never tighter than the last one's) and `low_values` holds what
+    /// they would have left there bit for bit: faer forms a column-major matrix–vector product
+    /// as one fused multiply-add chain per row over the columns in order, starting from zero, so
+    /// the levels' products over the blocks 4, 4, 8, 16 (the first replacing, the others adding)
+    /// and this one over the 32 columns make the same chain. When it returns false the caller
+    /// runs the levels from the start, so the proof and the reach it sets are those of the
+    /// levels.
+    fn last_level_fails(&mut self, next: &[f64], lower: f64, upper: f64, total: f64) -> bool {
+        let data = &*self.data;
+        let last = data.levels.len() - 1;
+        let modes = data.levels[last];
+        matmul(
+            faer::ColMut::from_slice_mut(&mut self.low_values),
+            Accum::Replace,
+            data.c.subcols(0, modes),
+            faer::ColRef::from_slice(&next[..modes]),
+            1.0,
+            Par::Seq,
+        );
+        let high = self.next_high_squared[last].sqrt();
+        let weights = &data.high_row_norms[last];
+        self.low_values.iter().enumerate().any(|(i, &y)| {
+            let slack = weights[i] * high + 1e-12 * data.row_norms[i] * total;
+            (y - slack - lower).min(upper - y - slack) < 0.0
+        })
     }
 }
 
@@ -461,7 +496,8 @@ impl LinearBackend for ModalBackend {
     }
 
     fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool {
-        let data = &*self.data;
+        let data = Arc::clone(&self.data);
+        let data = &*data;
         if self
             .reach
             .covers(self.moved_squared, lower, upper, &data.reach_metric)
@@ -470,6 +506,10 @@ impl LinearBackend for ModalBackend {
         }
         self.next_norm_squared = screening_norms(&data.levels, next, &mut self.next_high_squared);
         let total = self.next_norm_squared.sqrt();
+        if self.near && self.last_level_fails(next, lower, upper, total) {
+            self.screened = true;
+            return false;
+        }
         let mut done = 0;
         for (level, &modes) in data.levels.iter().enumerate() {
             // y_L over this level's modes: the last level's partial product plus its new columns.
@@ -509,10 +549,12 @@ impl LinearBackend for ModalBackend {
                     .map(|(i, &y)| margin(i, y));
                 self.reach
                     .prove(next, total, lower, upper, margins, &data.reach_metric.rows);
+                self.near = false;
                 return true;
             }
         }
         self.screened = true;
+        self.near = true;
         false
     }
 
@@ -699,12 +741,7 @@ fn high_mode_part(data: &ModalData, i: usize, q: &[f64]) -> f64 {
 /// [`high_mode_part`]'s one-row product uses (the same accumulators in the same order over the
 /// same length, then times α = 1 and added to the destination), so each value is bit-identical
 /// to `out[i] + high_mode_part(data, i, q)`.
-fn add_high_mode_parts(
-    data: &ModalData,
-    rows: std::ops::Range<usize>,
-    q: &[f64],
-    out: &mut [f64],
-) {
+fn add_high_mode_parts(data: &ModalData, rows: std::ops::Range<usize>, q: &[f64], out: &mut [f64]) {
     let from = data.levels[data.levels.len() - 1];
     let n = q.len();
     let count = rows.len();
