@@ -864,6 +864,65 @@ mod tests {
         );
     }
 
+    /// The shortcuts near an obstacle change nothing: trying the last level first (after a
+    /// prediction that failed every level) decides as the levels do and leaves the same low-mode
+    /// values bit for bit, and the exact values formed one run of vertices per product equal
+    /// ŷ_i + (C_H q_H)_i formed one vertex at a time, bit for bit.
+    #[test]
+    fn near_contact_shortcuts_are_bit_identical() {
+        let data = synthetic_data();
+        let mut levelled = ModalBackend::new(data.clone());
+        let mut shortcut = ModalBackend::new(data.clone());
+        let n = data.c.ncols();
+        let (lower, upper) = (-0.05, 0.04);
+        let (mut failed, mut mixed) = (0, 0);
+        for case in 0..2000 {
+            let decay = 0.2 + 0.05 * (case % 30) as f64;
+            let amplitude = 1e-3 * (1.0 + (case / 30) as f64);
+            let q: Vec<f64> = (0..n)
+                .map(|k| {
+                    amplitude * ((case * 7 + k * 3) as f64).sin() / (1.0 + k as f64).powf(decay)
+                })
+                .collect();
+            levelled.near = false;
+            shortcut.near = true;
+            let decided = levelled.prediction_proven_within(&q, lower, upper);
+            assert_eq!(
+                decided,
+                shortcut.prediction_proven_within(&q, lower, upper),
+                "case {case}"
+            );
+            if decided {
+                continue;
+            }
+            failed += 1;
+            let stand_ins = shortcut.stand_in.iter().filter(|&&s| s).count();
+            mixed += usize::from(stand_ins > 0 && stand_ins < data.c.nrows());
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&levelled.low_values), bits(&shortcut.low_values));
+            let mut out = vec![0.0; data.c.nrows()];
+            shortcut.prediction_values(&q, lower, upper, &mut out);
+            for (i, &value) in out.iter().enumerate() {
+                let expected = if shortcut.stand_in[i] {
+                    shortcut.low_values[i]
+                } else {
+                    shortcut.low_values[i] + high_mode_part(&data, i, &q)
+                };
+                assert_eq!(
+                    value.to_bits(),
+                    expected.to_bits(),
+                    "case {case}, vertex {i}"
+                );
+            }
+        }
+        // Failures with stand-ins between runs of exact values occur.
+        assert!(failed > 100, "{failed} predictions failed the screening");
+        assert!(
+            mixed > 10,
+            "{mixed} failures with stand-ins and exact values"
+        );
+    }
+
     /// The contact solve from stand-in values ([`LinearBackend::prediction_values`]) gives the
     /// same active set and multipliers as the solve from the exact y* = Cq, over predictions that
     /// push a few vertices past the bounds; some of them make the solution reach a stand-in,
