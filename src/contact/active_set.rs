@@ -101,12 +101,7 @@ impl<'a, D: Delassus + ?Sized> DelassusWorkingSet<'a, D> {
     /// y = y* + Σ_j λ_j W e_j over the factor's indices.
     fn constrained_values(&mut self, lambda: &[f64], y: &mut [f64]) {
         y.copy_from_slice(self.y_star);
-        for &j in self.work.factor.order() {
-            let l = lambda[j];
-            for (yi, ci) in y.iter_mut().zip(self.w.column(j)) {
-                *yi += l * ci;
-            }
-        }
+        self.w.add_columns(self.work.factor.order(), lambda, y);
     }
 }
 
