@@ -496,20 +496,20 @@ impl LinearBackend for ModalBackend {
     }
 
     fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool {
-        let data = Arc::clone(&self.data);
-        let data = &*data;
         if self
             .reach
-            .covers(self.moved_squared, lower, upper, &data.reach_metric)
+            .covers(self.moved_squared, lower, upper, &self.data.reach_metric)
         {
             return true;
         }
-        self.next_norm_squared = screening_norms(&data.levels, next, &mut self.next_high_squared);
+        self.next_norm_squared =
+            screening_norms(&self.data.levels, next, &mut self.next_high_squared);
         let total = self.next_norm_squared.sqrt();
         if self.near && self.last_level_fails(next, lower, upper, total) {
             self.screened = true;
             return false;
         }
+        let data = &*self.data;
         let mut done = 0;
         for (level, &modes) in data.levels.iter().enumerate() {
             // y_L over this level's modes: the last level's partial product plus its new columns.
