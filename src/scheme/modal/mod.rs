@@ -18,7 +18,10 @@
 //! before, and stops at the first level that proves the step: the remainder bound of a level is
 //! never tighter than the next level's (Cauchy–Schwarz over the union of the blocks), so the
 //! levels decide exactly what the last one alone would, and a plate away from the obstacles
-//! costs an m × 4 product per step. A proof also covers the steps after it while the plate has
+//! costs an m × 4 product per step. After a prediction that every level failed, the next one
+//! tries the last level first (near an obstacle the earlier levels would fail anyway): its one
+//! product over the 32 columns leaves the same values bit for bit, as faer forms each row as one
+//! fused multiply-add chain over the columns in order. A proof also covers the steps after it while the plate has
 //! not moved far enough to reach an obstacle ([`reach`]): at small time steps most steps do no
 //! bound check at all. The contact-free step itself is one fused pass over the modes ([`pass`]).
 
