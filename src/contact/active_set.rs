@@ -101,12 +101,7 @@ impl<'a, D: Delassus + ?Sized> DelassusWorkingSet<'a, D> {
     /// y = y* + Σ_j λ_j W e_j over the factor's indices.
     fn constrained_values(&mut self, lambda: &[f64], y: &mut [f64]) {
         y.copy_from_slice(self.y_star);
-        for &j in self.work.factor.order() {
-            let l = lambda[j];
-            for (yi, ci) in y.iter_mut().zip(self.w.column(j)) {
-                *yi += l * ci;
-            }
-        }
+        self.w.add_columns(self.work.factor.order(), lambda, y);
     }
 }
 
@@ -365,7 +360,10 @@ impl ActiveSetSolver {
         if y_star.len() != m || lower.len() != m || upper.len() != m || states.len() != m {
             return report;
         }
-        let mut scale = 0.0_f64;
+        // The largest |y*_i|, |lower_i| and |upper_i| (finite bounds), in three running maxima:
+        // the maximum of numbers that are not NaN does not depend on the order it is taken in, so
+        // this is the one running maximum's value without its chain of dependent steps.
+        let mut scales = [0.0_f64; 3];
         for i in 0..m {
             let (lo, hi, ys) = (lower[i], upper[i], y_star[i]);
             if !ys.is_finite() || lo.is_nan() || hi.is_nan() || lo > hi {
@@ -374,12 +372,12 @@ impl ActiveSetSolver {
             if lo == f64::INFINITY || hi == f64::NEG_INFINITY {
                 return report;
             }
-            scale = scale.max(ys.abs());
+            scales[0] = scales[0].max(ys.abs());
             if lo.is_finite() {
-                scale = scale.max(lo.abs());
+                scales[1] = scales[1].max(lo.abs());
             }
             if hi.is_finite() {
-                scale = scale.max(hi.abs());
+                scales[2] = scales[2].max(hi.abs());
             }
             // A warm-start label on a missing bound means nothing: read it as free.
             if (states[i] == BoundState::AtLower && !lo.is_finite())
@@ -388,6 +386,7 @@ impl ActiveSetSolver {
                 states[i] = BoundState::Free;
             }
         }
+        let scale = scales[0].max(scales[1]).max(scales[2]);
         let tol_y = settings.tol * scale.max(f64::MIN_POSITIVE);
         report.bound_tolerance = tol_y;
 
