@@ -22,8 +22,8 @@
 //! tries the last level first (near an obstacle the earlier levels would fail anyway): its one
 //! product over the 32 columns leaves the same values bit for bit, as faer forms each row as one
 //! fused multiply-add chain over the columns in order. A proof also covers the steps after it while the plate has
-//! not moved far enough to reach an obstacle ([`reach`]): at small time steps most steps do no
-//! bound check at all. The contact-free step itself is one fused pass over the modes ([`pass`]).
+//! not moved far enough to reach an obstacle (`reach.rs`): at small time steps most steps do no
+//! bound check at all. The contact-free step itself is one fused pass over the modes (`pass.rs`).
 
 mod pass;
 mod reach;
