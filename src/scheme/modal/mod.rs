@@ -809,6 +809,16 @@ mod tests {
         ))
     }
 
+    /// Prediction `case` of a sweep from far inside the bounds of the tests below to past them,
+    /// with weight shifted from the low to the high modes as `case` grows.
+    fn swept_prediction(case: usize, n: usize) -> Vec<f64> {
+        let decay = 0.2 + 0.05 * (case % 30) as f64;
+        let amplitude = 1e-3 * (1.0 + (case / 30) as f64);
+        (0..n)
+            .map(|k| amplitude * ((case * 7 + k * 3) as f64).sin() / (1.0 + k as f64).powf(decay))
+            .collect()
+    }
+
     /// The levelled screening proves a prediction exactly when the last level alone (the lowest
     /// 32 modes and the Cauchy–Schwarz bound on the rest) does, and whatever it proves is inside
     /// the bounds when y = Cq is evaluated in full. The predictions sweep from far inside the
@@ -821,13 +831,7 @@ mod tests {
         let mut proven_early = 0;
         let mut proven = 0;
         for case in 0..2000 {
-            let decay = 0.2 + 0.05 * (case % 30) as f64;
-            let amplitude = 1e-3 * (1.0 + (case / 30) as f64);
-            let q: Vec<f64> = (0..n)
-                .map(|k| {
-                    amplitude * ((case * 7 + k * 3) as f64).sin() / (1.0 + k as f64).powf(decay)
-                })
-                .collect();
+            let q = swept_prediction(case, n);
             let (lower, upper) = (-0.05, 0.04);
             backend.next_norm_squared =
                 screening_norms(&data.levels, &q, &mut backend.next_high_squared);
@@ -880,13 +884,7 @@ mod tests {
         let (lower, upper) = (-0.05, 0.04);
         let (mut failed, mut mixed) = (0, 0);
         for case in 0..2000 {
-            let decay = 0.2 + 0.05 * (case % 30) as f64;
-            let amplitude = 1e-3 * (1.0 + (case / 30) as f64);
-            let q: Vec<f64> = (0..n)
-                .map(|k| {
-                    amplitude * ((case * 7 + k * 3) as f64).sin() / (1.0 + k as f64).powf(decay)
-                })
-                .collect();
+            let q = swept_prediction(case, n);
             levelled.near = false;
             shortcut.near = true;
             let decided = levelled.prediction_proven_within(&q, lower, upper);

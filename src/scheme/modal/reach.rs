@@ -3,25 +3,28 @@
 //! When the levelled screening ([`super`]) proves a prediction q_s inside the bounds, it also
 //! proves by how much: every constrained vertex i has y_i(q_s) within [l_s + r_i, u_s − r_i] for
 //! a margin r_i ≥ 0 (its distance to the nearer bound less the screening's slack). For any later
-//! prediction q, y_i(q) = y_i(q_s) + C_i(q − q_s) with |C_i(q − q_s)| ≤ ‖C_i‖ D, D = ‖q − q_s‖
-//! (Cauchy–Schwarz), while the bounds relative to the base move by at most
-//! δ = max(l − l_s, u_s − u, 0). So q is inside its bounds [l, u] when ‖C_i‖ D + δ ≤ r_i for
+//! prediction q, y_i(q) = y_i(q_s) + C_i(q − q_s) with |C_i(q − q_s)| ≤ g_i D, where
+//! D = ‖q − q_s‖_w in the weighted norm ‖x‖_w² = Σ_k w_k x_k² and g_i = (Σ_k C_ik²/w_k)^½
+//! (Cauchy–Schwarz; [`ReachMetric`], w_k = ω_k), while the bounds relative to the base move by at
+//! most δ = max(l − l_s, u_s − u, 0). So q is inside its bounds [l, u] when g_i D + δ ≤ r_i for
 //! every i, which follows from either of two tests that cost O(1):
 //!
-//! * ρ = min_i r_i/‖C_i‖ ≥ D and δ ≤ c_min (ρ − D)  (r_i − ‖C_i‖D ≥ ‖C_i‖(ρ − D)), or
-//! * δ ≤ r_min − c_max D,
+//! * ρ = min_i r_i/g_i ≥ D and δ ≤ g_min (ρ − D)  (r_i − g_iD ≥ g_i(ρ − D)), or
+//! * δ ≤ r_min − g_max D,
 //!
-//! with c_min, c_max the extreme row norms over the rows that are not zero (a zero row holds its
-//! vertex at the base, which [`check_base`](crate::scheme::stepper::check_base) keeps strictly
-//! inside the gap). D comes from the step's fused pass ([`super::pass`]) at the cost of one
-//! subtraction and one product-sum per mode. At small time steps a vertex moves by a tiny fraction
-//! of its margin per step, so one proof covers hundreds of steps, each of which then does no bound
-//! check at all. The proof is about the vector q_s and the bounds l_s, u_s only, not about the
-//! trajectory that led there, so it stays valid across a restored state or moved obstacles.
+//! with g_min, g_max the extremes over the rows that are not zero (a zero row holds its vertex at
+//! the base, which [`check_base`](crate::scheme::stepper::check_base) keeps strictly inside the
+//! gap). D comes from the step's fused pass ([`super::pass`]) at the cost of one subtraction, one
+//! product and one multiply-add per mode. At small time steps a vertex moves by a tiny fraction
+//! of its margin per step, so one proof covers tens to hundreds of steps, each of which then does
+//! no bound check at all. Weighting by ω_k discounts the high modes, whose large entries C_ik
+//! would otherwise let their small share of the motion count at full weight at every vertex. The
+//! proof is about the vector q_s and the bounds l_s, u_s only, not about the trajectory that led
+//! there, so it stays valid across a restored state or moved obstacles.
 //!
 //! Round-off: the computed y_i differs from the exact one by at most 1e-12 ‖C_i‖ ‖q‖ (the
-//! screening's own margin, see [`super`]), with ‖q‖ ≤ ‖q_s‖ + D, and D² is summed with a relative
-//! error below n ε < 1e-12; both are added to D.
+//! screening's own margin, see [`super`]) ≤ 1e-12 g_i √w_max (‖q_s‖ + D/√w_min), and D² is
+//! summed with a relative error below n ε < 1e-12; both are added to D.
 
 /// The reference of the last proof and what it proves.
 #[derive(Clone, Debug)]
@@ -32,7 +35,7 @@ pub(super) struct Reach {
     reference_norm: f64,
     /// [l_s, u_s], the bounds of the proof relative to the base.
     bounds: [f64; 2],
-    /// ρ = min_i r_i/‖C_i‖ over the non-zero rows (−∞ before any proof).
+    /// ρ = min_i r_i/g_i over the non-zero rows (−∞ before any proof).
     radius: f64,
     /// r_min = min_i r_i over the non-zero rows (−∞ before any proof).
     margin: f64,
@@ -84,7 +87,7 @@ impl ReachMetric {
     }
 }
 
-/// The extreme norms of the non-zero rows of C = BΦ.
+/// The extremes of the non-zero dual row norms g_i.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RowNormRange {
     pub min: f64,
@@ -162,7 +165,7 @@ impl Reach {
     }
 
     /// Takes q as the new reference, proven inside [`lower`, `upper`] with the margins
-    /// `margins[i]` ≥ 0 per vertex, `row_norms[i]` = ‖C_i‖, and ‖q‖ = `norm`.
+    /// `margins[i]` ≥ 0 per vertex, `dual_row_norms[i]` = g_i, and ‖q‖ = `norm`.
     pub(super) fn prove(
         &mut self,
         q: &[f64],
@@ -170,13 +173,13 @@ impl Reach {
         lower: f64,
         upper: f64,
         margins: impl Iterator<Item = f64>,
-        row_norms: &[f64],
+        dual_row_norms: &[f64],
     ) {
         self.reference.copy_from_slice(q);
         self.reference_norm = norm;
         self.bounds = [lower, upper];
         let (mut radius, mut margin) = (f64::INFINITY, f64::INFINITY);
-        for (r, &c) in margins.zip(row_norms) {
+        for (r, &c) in margins.zip(dual_row_norms) {
             if c > 0.0 {
                 radius = radius.min(r / c);
                 margin = margin.min(r);
@@ -238,5 +241,49 @@ mod tests {
         );
         assert!(reach.covers(0.0, f64::NEG_INFINITY, 0.01, rows));
         assert!(!reach.covers(0.0, -0.5, 0.01, rows));
+    }
+
+    /// The weighted metric bounds a row's product by Cauchy–Schwarz, |C_i x| ≤ g_i ‖x‖_w, with
+    /// w_k = ω_k over frequencies spanning four decades, for rows and vectors of varied shape;
+    /// and the bound is attained by x_k = C_ik/w_k (the equality case).
+    #[test]
+    fn weighted_rows_bound_every_product() {
+        let n = 50;
+        let omega_squared: Vec<f64> = (0..n).map(|k| (300.0 * 1.2f64.powi(k)).powi(2)).collect();
+        let rows: Vec<Vec<f64>> = (0..6)
+            .map(|i| {
+                (0..n)
+                    .map(|k| ((i * 7 + k * 3) as f64).sin() * (1.0 + k as f64).sqrt())
+                    .collect()
+            })
+            .collect();
+        let metric = ReachMetric::new(&omega_squared, 1.0, rows.clone());
+        let norm_w = |x: &[f64]| -> f64 {
+            x.iter()
+                .zip(&metric.weights)
+                .map(|(x, w)| w * x * x)
+                .sum::<f64>()
+                .sqrt()
+        };
+        for (i, row) in rows.iter().enumerate() {
+            for case in 0..200 {
+                let x: Vec<f64> = (0..n)
+                    .map(|k| ((case * 13 + k * 5) as f64).cos() / (1.0 + k as f64))
+                    .collect();
+                let product: f64 = row.iter().zip(&x).map(|(c, x)| c * x).sum();
+                assert!(product.abs() <= metric.rows[i] * norm_w(&x) * (1.0 + 1e-12));
+            }
+            let extremal: Vec<f64> = row
+                .iter()
+                .zip(&metric.weights)
+                .map(|(c, w)| c / w)
+                .collect();
+            let product: f64 = row.iter().zip(&extremal).map(|(c, x)| c * x).sum();
+            let bound = metric.rows[i] * norm_w(&extremal);
+            assert!(
+                (product - bound).abs() <= 1e-12 * bound,
+                "row {i}: {product} vs {bound}"
+            );
+        }
     }
 }
