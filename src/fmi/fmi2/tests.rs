@@ -549,6 +549,26 @@ fn initialization_sets_do_not_rebuild_the_plate() {
     assert_eq!(inst.model().full_set_ups(), 2);
 }
 
+/// Regression (found by the call-sequence fuzzer): a scene whose set-up is refused was set up
+/// again for every value reference a host read, so reading all outputs cost a set-up each.
+#[test]
+fn a_refused_set_up_is_tried_once_per_scene() {
+    let (mut inst, _) = small();
+    // Accepted by the parameter checks (thickness > 0), refused by the set-up.
+    inst.set_real(&[vr::PLATE_THICKNESS], &[1e-300]).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let first = real_result(&mut inst, vr::CORNER1_DISPLACEMENT).unwrap_err();
+    for _ in 0..5 {
+        let again = real_result(&mut inst, vr::CORNER1_DISPLACEMENT).unwrap_err();
+        assert_eq!(again.message, first.message);
+    }
+    assert_eq!(inst.model().full_set_ups(), 1, "{}", first.message);
+    // Another thickness is another scene: tried again, and set up.
+    inst.set_real(&[vr::PLATE_THICKNESS], &[0.01]).unwrap();
+    real_result(&mut inst, vr::CORNER1_DISPLACEMENT).unwrap();
+    assert_eq!(inst.model().full_set_ups(), 2);
+}
+
 /// Regression: the input plan used the host's raw h, so ulp jitter of h changed the results.
 #[test]
 fn ulp_jitter_of_the_step_size_changes_nothing() {

@@ -68,10 +68,24 @@ pub struct PlateModel {
     /// change the simulation, so that a host reading its outputs one value reference at a time
     /// checks them once per state.
     verdict: OnceCell<Option<String>>,
-    /// Whether `simulation` was set up for the current parameters, input and start time.
-    current: bool,
+    /// Whether `simulation` was set up for the current parameters, input and start time, or
+    /// its set-up for them was refused.
+    readiness: Readiness,
     /// How many times the plate was assembled and its backend built (the expensive set-up).
     full_set_ups: u64,
+}
+
+/// Whether the model's simulation belongs to its current parameters, input and start time.
+#[derive(Clone, Debug, PartialEq)]
+enum Readiness {
+    /// Not set up for them: the next access that needs the simulation sets it up.
+    Stale,
+    /// Set up for them.
+    Ready,
+    /// Their set-up was refused with this failure. Kept, so that a host reading every output of
+    /// a scene that cannot be set up gets the refusal at once instead of a set-up per value
+    /// reference (the set-up is a function of the parameters, input and start time alone).
+    Refused(Failure),
 }
 
 /// Start value of the input `base.displacement`.
@@ -116,35 +130,50 @@ impl PlateModel {
     /// Sets the simulation up for the current parameters, input and start time unless it already
     /// is (reusing the assembled plate when possible).
     fn ensure_simulation(&mut self) -> Result<&Simulation, Failure> {
-        if !self.current || self.simulation.is_none() {
+        if let Readiness::Refused(failure) = &self.readiness {
+            return Err(failure.clone());
+        }
+        if self.readiness == Readiness::Stale || self.simulation.is_none() {
             self.verdict = OnceCell::new();
-            self.parameters.validate()?;
-            check_experiment(&self.parameters, self.start_time, self.stop_time)?;
-            let (scene, start, input) = (&self.parameters, self.start_time, self.input);
-            let simulation = &mut self.simulation;
-            // The set-up is a function of the parameters alone: a panic inside the library (a
-            // geometry the elements cannot handle) leaves the model as it was and is refused.
-            let set_up = catch_unwind(AssertUnwindSafe(|| match simulation {
-                Some(sim) => sim.restart(scene, start, input),
-                None => {
-                    *simulation = Some(Simulation::new(scene, start, input)?);
-                    Ok(SetUp::Rebuilt)
-                }
-            }))
-            .map_err(|payload| {
-                Failure::refused(format!(
-                    "the plate could not be set up for these parameters ({}); check that they describe a plate the elements can mesh",
-                    panic_text(payload.as_ref())
-                ))
-            })??;
-            self.full_set_ups += u64::from(set_up == SetUp::Rebuilt);
-            self.current = true;
+            if let Err(failure) = self.set_up() {
+                self.readiness = Readiness::Refused(failure.clone());
+                return Err(failure);
+            }
+            self.readiness = Readiness::Ready;
         }
         Ok(self.simulation.as_ref().expect("set up above"))
     }
 
-    /// How many times this model assembled the plate and built its backend (for tests and
-    /// diagnostics: sets before the end of initialization must not each cost a set-up).
+    /// Sets the simulation up for the current parameters, input and start time (the expensive
+    /// part of [`PlateModel::ensure_simulation`]).
+    fn set_up(&mut self) -> Result<(), Failure> {
+        self.parameters.validate()?;
+        check_experiment(&self.parameters, self.start_time, self.stop_time)?;
+        let (scene, start, input) = (&self.parameters, self.start_time, self.input);
+        let simulation = &mut self.simulation;
+        // The set-up is a function of the parameters alone: a panic inside the library (a
+        // geometry the elements cannot handle) leaves the model as it was and is refused.
+        let set_up = catch_unwind(AssertUnwindSafe(|| match simulation {
+            Some(sim) => sim.restart(scene, start, input),
+            None => {
+                *simulation = Some(Simulation::new(scene, start, input)?);
+                Ok(SetUp::Rebuilt)
+            }
+        }))
+        .map_err(|payload| {
+            Failure::refused(format!(
+                "the plate could not be set up for these parameters ({}); check that they describe a plate the elements can mesh",
+                panic_text(payload.as_ref())
+            ))
+        });
+        self.full_set_ups += u64::from(!matches!(set_up, Ok(Ok(SetUp::Reused))));
+        set_up??;
+        Ok(())
+    }
+
+    /// How many times this model assembled the plate and built its backend, or tried to and was
+    /// refused (for tests and diagnostics: sets before the end of initialization must not each
+    /// cost a set-up, nor reads of a scene that cannot be set up).
     pub fn full_set_ups(&self) -> u64 {
         self.full_set_ups
     }
@@ -162,7 +191,9 @@ impl PlateModel {
     /// where an error ends the instance (FMI 3.0 ends every error in Terminated).
     fn run_simulation(&self, phase: Phase) -> Option<&Simulation> {
         let running = phase.running() || phase == Phase::Initialization;
-        self.simulation.as_ref().filter(|_| running && self.current)
+        self.simulation
+            .as_ref()
+            .filter(|_| running && self.readiness == Readiness::Ready)
     }
 
     /// The simulation whose outputs may be read in `phase` (set up first in Initialization mode),
@@ -263,7 +294,7 @@ impl Model for PlateModel {
             input_derivatives: [None, None],
             simulation: None,
             verdict: OnceCell::new(),
-            current: false,
+            readiness: Readiness::Stale,
             full_set_ups: 0,
         }
     }
@@ -280,7 +311,7 @@ impl Model for PlateModel {
         check_experiment(&self.parameters, start, stop)?;
         self.start_time = start;
         self.stop_time = stop;
-        self.current = false;
+        self.readiness = Readiness::Stale;
         Ok(())
     }
 
@@ -407,7 +438,7 @@ impl Model for PlateModel {
                 sim.set_pressure(pressure)?;
             }
         } else if draft.parameters != self.parameters || draft.input != self.input {
-            self.current = false;
+            self.readiness = Readiness::Stale;
         }
         self.parameters = draft.parameters;
         self.input = draft.input;
@@ -523,7 +554,7 @@ impl Model for PlateModel {
         let snap = checked.snapshot();
         self.verdict = OnceCell::new();
         match &snap.simulation {
-            None => self.current = false,
+            None => self.readiness = Readiness::Stale,
             Some(state) => {
                 let fixed = state.stepper.scene.fixed_part();
                 match &mut self.simulation {
@@ -552,7 +583,7 @@ impl Model for PlateModel {
                         self.full_set_ups += 1;
                     }
                 }
-                self.current = true;
+                self.readiness = Readiness::Ready;
             }
         }
         self.parameters = snap.parameters.clone();
