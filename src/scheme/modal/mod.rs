@@ -384,12 +384,39 @@ impl ModalBackend {
             1.0,
             Par::Seq,
         );
-        let high = self.next_high_squared[last].sqrt();
-        let weights = &data.high_row_norms[last];
-        self.low_values.iter().enumerate().any(|(i, &y)| {
-            let slack = weights[i] * high + 1e-12 * data.row_norms[i] * total;
-            (y - slack - lower).min(upper - y - slack) < 0.0
-        })
+        let margin = screening_margin(
+            data,
+            last,
+            self.next_high_squared[last],
+            total,
+            lower,
+            upper,
+        );
+        self.low_values
+            .iter()
+            .enumerate()
+            .any(|(i, &y)| margin(i, y) < 0.0)
+    }
+}
+
+/// Vertex i's screening margin at `level`, as a function of (i, y_i) with y_i its low-mode value
+/// C_{i,L} q_L: the distance of y_i to the nearer bound less the slack
+/// g_i^L ‖q_H‖ + 1e-12 ‖C_i‖ ‖q‖ (the remainder bound, with `high_squared` = ‖q_H‖², plus the
+/// round-off of both products, n ε < 1e-12 for any mesh this backend takes; `total` = ‖q‖).
+/// Non-negative when the level proves the vertex inside the bounds.
+fn screening_margin(
+    data: &ModalData,
+    level: usize,
+    high_squared: f64,
+    total: f64,
+    lower: f64,
+    upper: f64,
+) -> impl Fn(usize, f64) -> f64 + '_ {
+    let high = high_squared.sqrt();
+    let weights = &data.high_row_norms[level];
+    move |i, y| {
+        let slack = weights[i] * high + 1e-12 * data.row_norms[i] * total;
+        (y - slack - lower).min(upper - y - slack)
     }
 }
 
@@ -530,15 +557,14 @@ impl LinearBackend for ModalBackend {
                 Par::Seq,
             );
             done = modes;
-            let high = self.next_high_squared[level].sqrt();
-            let weights = &data.high_row_norms[level];
-            // The remainder bound, plus 1e-12‖C_i‖‖q‖ for the round-off of both products
-            // (n ε < 1e-12 for any mesh this backend takes).
-            // Per vertex: the distance to the nearer bound less the slack (≥ 0 when proven).
-            let margin = |i: usize, y: f64| {
-                let slack = weights[i] * high + 1e-12 * data.row_norms[i] * total;
-                (y - slack - lower).min(upper - y - slack)
-            };
+            let margin = screening_margin(
+                data,
+                level,
+                self.next_high_squared[level],
+                total,
+                lower,
+                upper,
+            );
             let proven = self
                 .low_values
                 .iter()
