@@ -65,7 +65,11 @@ def run_tasks(fmu_path, tasks, client, describe=None):
     else:
         from distributed import as_completed
         ship_modules(client, [function for _, function, _ in tasks])
-        blob = client.scatter(fmu_blob, broadcast=True)
+        # A unique key per call: under the default key, a hash of the content, every call
+        # scatters the same FMU under the same key, and the release of the previous call's future
+        # can reach the scheduler after the new scatter and drop the data under the new tasks
+        # ("lost dependencies"; dask/distributed issue 8576).
+        blob = client.scatter(fmu_blob, broadcast=True, hash=False)
         futures = {client.submit(function, blob, digest, *args, pure=False): key
                    for key, function, args in tasks}
         for future in as_completed(futures):
