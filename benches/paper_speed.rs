@@ -1,13 +1,17 @@
 //! The stepping cost on the paper's meshes, made to compare builds in one run.
 //!
 //! `cargo bench --bench paper_speed [-- RUNS] [CASES]` (default 5 runs; CASES a comma-separated
-//! list of `paper`, `resolved`, `fine`, default `paper,resolved`) steps `forced-35hz` on
+//! list of `paper`, `resolved`, `fine`, `floor`, default `paper,resolved`) steps `forced-35hz` on
 //! Argyris 10 × 7 and FVS 14 × 10, RUNS times each:
 //!
 //! * `paper`: the scene as shipped, Δt = 1e-4 s, 1 s (10 000 steps), undamped;
 //! * `resolved`: the small-step regime the damping study sends users to, Δt = 1e-6 s, 0.5 s
 //!   (500 000 steps), with the study's Rayleigh damping α = 6.6925 1/s, β = 6.2984e-7 s;
-//! * `fine`: the same at Δt = 1e-7 s (5 000 000 steps).
+//! * `fine`: the same at Δt = 1e-7 s (5 000 000 steps);
+//! * `floor`: `resolved` with both obstacles disabled, so that every step only advances the modes
+//!   and does the stepper's bookkeeping (no vertex to check): the floor under any step of
+//!   `resolved`, its screened steps included (with no constrained vertex, its hash is that of an
+//!   empty list).
 //!
 //! It prints per case and mesh the median and the fastest µs per step over the runs, the same
 //! split into steps the screening proved contact-free, contact-free steps whose constrained
@@ -17,9 +21,9 @@
 //! summation order moves by round-off).
 //!
 //! It uses only what the first release already offered (`Scene::named`, `Stepper::new`,
-//! `Stepper::step` and its `StepReport`) and the damping fields of the scene, so the file can be
-//! copied into an older checkout and both builds run alternately: on a shared machine only
-//! ratios measured in one session mean anything.
+//! `Stepper::step` and its `StepReport`), the damping fields and the obstacles' switches of the
+//! scene, so the file can be copied into an older checkout and both builds run alternately: on a
+//! shared machine only ratios measured in one session mean anything.
 
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
@@ -32,36 +36,48 @@ fn median(mut xs: Vec<f64>) -> f64 {
     xs[xs.len() / 2]
 }
 
-/// One benchmark case: its name, Δt (s), simulated time (s) and Rayleigh damping (α 1/s, β s).
+/// One benchmark case: its name, Δt (s), simulated time (s), Rayleigh damping (α 1/s, β s) and
+/// whether the scene's obstacles are enabled.
 struct Case {
     name: &'static str,
     time_step: f64,
     stop_time: f64,
     rayleigh: [f64; 2],
+    obstacles: bool,
 }
 
 /// The damping study's Rayleigh pair: 1 % of critical at the first mode (53.83 Hz) and at 5 kHz
 /// (docs/accuracy/damping.md).
 const STUDY_RAYLEIGH: [f64; 2] = [6.6925, 6.2984e-7];
 
-const CASES: [Case; 3] = [
+const CASES: [Case; 4] = [
     Case {
         name: "paper",
         time_step: 1e-4,
         stop_time: 1.0,
         rayleigh: [0.0, 0.0],
+        obstacles: true,
     },
     Case {
         name: "resolved",
         time_step: 1e-6,
         stop_time: 0.5,
         rayleigh: STUDY_RAYLEIGH,
+        obstacles: true,
     },
     Case {
         name: "fine",
         time_step: 1e-7,
         stop_time: 0.5,
         rayleigh: STUDY_RAYLEIGH,
+        obstacles: true,
+    },
+    Case {
+        name: "floor",
+        time_step: 1e-6,
+        stop_time: 0.5,
+        rayleigh: STUDY_RAYLEIGH,
+        obstacles: false,
     },
 ];
 
@@ -86,7 +102,7 @@ fn main() {
     for name in &wanted {
         assert!(
             CASES.iter().any(|c| c.name == *name),
-            "unknown case {name}: expected paper, resolved or fine"
+            "unknown case {name}: expected paper, resolved, fine or floor"
         );
     }
     for case in CASES.iter().filter(|c| wanted.contains(&c.name)) {
@@ -107,6 +123,8 @@ fn bench_mesh(case: &Case, element: ElementKind, nx: usize, ny: usize, runs: usi
         scene.damping.mass_proportional,
         scene.damping.stiffness_proportional,
     ] = case.rayleigh;
+    scene.obstacle.lower_enabled = case.obstacles;
+    scene.obstacle.upper_enabled = case.obstacles;
     let dt = scene.solver.time_step;
     let steps = (scene.stop_time / dt).round() as usize;
     let mut per_step = Vec::new();
