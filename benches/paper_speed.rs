@@ -102,7 +102,8 @@ fn main() {
     for name in &wanted {
         assert!(
             CASES.iter().any(|c| c.name == *name),
-            "unknown case {name}: expected paper, resolved, fine or floor"
+            "unknown case {name}: expected one of {:?}",
+            CASES.map(|c| c.name)
         );
     }
     for case in CASES.iter().filter(|c| wanted.contains(&c.name)) {

@@ -68,7 +68,7 @@ def run_tasks(fmu_path, tasks, client, describe=None):
         # A unique key per call: under the default key, a hash of the content, every call
         # scatters the same FMU under the same key, and the release of the previous call's future
         # can reach the scheduler after the new scatter and drop the data under the new tasks
-        # ("lost dependencies"; dask/distributed issue 8576).
+        # (Dask then cancels them for "lost dependencies"; tests/fmu/test_fmu_dask.py).
         blob = client.scatter(fmu_blob, broadcast=True, hash=False)
         futures = {client.submit(function, blob, digest, *args, pure=False): key
                    for key, function, args in tasks}
