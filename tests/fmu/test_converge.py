@@ -1,4 +1,4 @@
-"""scripts/converge (examples/converge.py, docs/converge/README.md): on a damped scene it
+"""scripts/converge (plateimpact_tools.converge, docs/converge/README.md): on a damped scene it
 converges and its recommended value agrees with a finer reference run within the tolerance; on the
 undamped paper scene with a small budget it says "not converged" rather than a number; and against
 a separately started `dask scheduler` with `dask worker` processes it writes the runs the local
@@ -23,9 +23,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "examples"))
-import converge  # noqa: E402
+from plateimpact_tools.converge import study as converge
 
 TOLERANCE = 0.01
 WINDOWS = ["--transient", "0.5", "--window", "0.2", "--windows", "4"]

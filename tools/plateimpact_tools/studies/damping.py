@@ -9,7 +9,7 @@ writes
                                with the envelope exp(-zeta_1 omega_1 t) of the first mode
 
 and prints the damping ratio measured from the corner's peaks (log decrement over successive peaks).
-Usage: .venv/bin/python examples/studies/damping.py [--out docs/damping]
+Usage: .venv/bin/python -m plateimpact_tools.studies.damping [--out docs/damping]
 """
 
 import argparse
@@ -25,7 +25,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+from plateimpact_tools import ROOT  # noqa: E402
+
 ZETA = 0.02
 STOP = 0.3  # s: about 16 periods of the first mode
 

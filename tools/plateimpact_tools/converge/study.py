@@ -1,7 +1,8 @@
 """The cheapest converged settings for a user's scene: refines the time step Δt (and, with --mesh,
 the mesh of the chosen element) of the packaged PlateImpact FMU until the statistics asked for
 stop changing, with each run's spread estimated from windows; runs on Dask. The command line is
-`scripts/converge` (which runs this file with the project's Python environment):
+`scripts/converge` (which runs `python -m plateimpact_tools.converge` with the project's Python
+environment):
 
     scripts/converge --out DIR --quantity Q [--quantity Q ...] --tolerance REL --budget-seconds S
                      [--mesh] [--scheduler ADDRESS] [--scene FILE] [name=value ...]
@@ -75,7 +76,8 @@ import uuid
 
 import numpy as np
 
-from fmu_dask import DEFAULT_FMU, ELEMENT, dask_client, fmu_dir, parse_value, run_tasks
+from plateimpact_tools import DEFAULT_FMU
+from plateimpact_tools.fmu_dask import ELEMENT, dask_client, fmu_dir, parse_value, run_tasks
 
 # name -> (unit, one-line definition); see the module docs.
 QUANTITIES = {
@@ -262,7 +264,7 @@ MODAL_AUTO_LIMIT = 2000
 # The cost model of a run (`run_cost`), per (mesh.element, backend): its set-up, (s, p), and its
 # internal step, (µs, p), each c·(n/1000)^p in the free dofs n; plus a communication step with the
 # study's reads. Measured through the FMU on the preset forced-35hz-damped at Δt = h = 1e-4 s
-# (examples/converge_step_cost.py; a 2-core development machine, load average about 2): per
+# (`python -m plateimpact_tools.converge.step_cost`; a 2-core development machine, load average about 2): per
 # internal step 6.6 → 35 µs from Argyris 10 × 7 to 20 × 10 (708 → 1951 free dofs, modal), 1655 µs
 # on 21 × 12 (2428, sparse), 3224 on 30 × 15 and 6002 on 40 × 20; FVS 12 → 70 µs from 14 × 10 to
 # 30 × 15 (462 → 1440, modal), 1360 on 40 × 20 (2520, sparse) and 3224 on 60 × 30. The modal set-up

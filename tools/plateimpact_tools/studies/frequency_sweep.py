@@ -7,11 +7,11 @@ sweeps the frequencies up and then back down, carrying the plate's state from ea
 the next, so that coexisting responses (jumps, hysteresis) show as two branches. Both write a CSV
 and a plot with the library's natural frequencies marked.
 
-    python examples/studies/frequency_sweep.py [--frequencies 5:120:1] [--workers N | --scheduler ADDR | --serial]
-                                       [--set name=value ...] [--param name=v1,v2,... ...]
-                                       [--zeta1 Z] [--stop-time 1.0] [--out out/sweep]
-    python examples/studies/frequency_sweep.py --continuation [--frequencies 30:90:1] [--zeta1 0.01]
-                                       [--settle 1.5] [--measure 1.0] [...]
+    python -m plateimpact_tools.studies.frequency_sweep [--frequencies 5:120:1]
+        [--workers N | --scheduler ADDR | --serial] [--set name=value ...]
+        [--param name=v1,v2,... ...] [--zeta1 Z] [--stop-time 1.0] [--out out/sweep]
+    python -m plateimpact_tools.studies.frequency_sweep --continuation [--frequencies 30:90:1]
+        [--zeta1 0.01] [--settle 1.5] [--measure 1.0] [...]
 
 Runs from rest (columns of sweep.csv; times are communication points, one per internal step Δt):
   peak_corner_m     max |u| over both free corners (Lx, 0), (Lx, Ly) in the analysis window, the
@@ -50,8 +50,9 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # examples/: the shared fmu_dask
-from fmu_dask import DEFAULT_FMU, ELEMENT, ROOT, dask_client, fmu_dir, parse_value, run_tasks  # noqa: E402
+from plateimpact_tools import DEFAULT_FMU, ROOT
+from plateimpact_tools.fmu_dask import ELEMENT, dask_client, fmu_dir, parse_value, run_tasks
+
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.contact_loss",
            "contact.active_nodes", "contact.impacts"]
 CONFIGS = {  # name -> start values that define it

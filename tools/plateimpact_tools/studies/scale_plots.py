@@ -8,7 +8,7 @@ are combined by taking, per mesh, the smallest of each timing (and the median of
 peak). Usage:
 
     cargo bench --bench solver -- --scale > run1.csv   (repeat: run2.csv, ...)
-    .venv/bin/python examples/studies/scale_plots.py run1.csv run2.csv ... [--out docs/scale]
+    .venv/bin/python -m plateimpact_tools.studies.scale_plots run1.csv run2.csv ... [--out docs/scale]
 
 writes docs/scale/scale.csv (the combined runs) and docs/scale/scale.png, and prints the table and
 the exponents of the fits  cost = c * n^p  over the meshes each backend runs (n = free dofs).
@@ -24,6 +24,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+from plateimpact_tools import ROOT  # noqa: E402
 
 TIMINGS = ["assembly_s", "setup_s", "us_per_step", "free_us", "qp_us"]
 MEMORY = ["peak_setup_mib", "peak_end_mib"]
@@ -71,7 +73,7 @@ def fit(points):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", nargs="+", help="CSV output of `cargo bench --bench solver -- --scale`")
-    parser.add_argument("--out", default=str(pathlib.Path(__file__).resolve().parents[2] / "docs" / "scale"))
+    parser.add_argument("--out", default=str(ROOT / "docs" / "scale"))
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     rows = sorted((combine(r) for r in read_runs(args.runs).values()),

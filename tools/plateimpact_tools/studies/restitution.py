@@ -10,7 +10,7 @@ Runs the `energy` scene (fixed base, preload released above the lower obstacle g
                                       contacts turn, against dt (e = 0.5 and 1)
 
 and prints the numbers of the tables in docs/restitution/README.md. Usage:
-.venv/bin/python examples/studies/restitution.py [--out docs/restitution]   (about a minute)
+.venv/bin/python -m plateimpact_tools.studies.restitution [--out docs/restitution]   (about a minute)
 """
 
 import argparse
@@ -25,7 +25,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+from plateimpact_tools import ROOT  # noqa: E402
+
 RESTITUTIONS = [0.0, 0.25, 0.5, 0.75, 0.9, 1.0]
 TIME_STEPS = [1e-4, 5e-5, 2.5e-5, 1e-5]
 CORNER_WINDOW = 0.15  # s: the first impacts
