@@ -19,10 +19,10 @@ import subprocess
 import sys
 import time
 
-import numpy as np
 import pytest
 
 from conftest import ROOT
+from plateimpact_tools import windows
 from plateimpact_tools.converge import study as converge
 
 TOLERANCE = 0.01
@@ -79,7 +79,7 @@ def test_damped_scene_converges_to_a_finer_reference(fmu_path, local_study):
     result, _ = converge.run_setting(blob, hashlib.sha256(blob).hexdigest(), scene, h,
                                      round(0.5 / h), round(0.2 / h), 4)
     for q in QUANTITIES:
-        reference, _ = converge.value_and_spread(q, result["windows"][q])
+        reference, _ = windows.value_and_spread(q, result["windows"][q])
         assert abs(values[q] - reference) <= TOLERANCE * abs(reference), (q, values[q], reference)
 
 
@@ -193,31 +193,6 @@ def test_a_count_must_agree_over_one_more_level():
     assert study.settled(ladder, "impact_rate")
     assert not study.settled(ladder[1:], "impact_rate")
     assert study.span == 3
-
-
-def test_window_values_split_the_samples_and_the_counts():
-    """Two windows of 2 steps of 0.5 s: each holds the samples after its own steps, the impacts of
-    the steps ending in it, and the change of the cumulative losses across it."""
-    reals = np.zeros((5, len(converge.REALS)))
-    reals[:, 0] = [9.0, 3.0, -4.0, 1.0, 1.0]  # corner1: the first sample precedes the windows
-    reals[:, 1] = [0.0, 0.0, 5.0, 0.0, -2.0]  # corner2
-    reals[:, 2] = [7.0, 1.0, 3.0, 5.0, 5.0]  # energy.total
-    reals[:, 3] = [0.0, 1.0, 2.0, 4.0, 8.0]  # energy.damping_loss
-    reals[:, 4] = [1.0, 1.0, 1.0, 1.0, 3.0]  # energy.contact_loss
-    reals[:, 5] = [0.0, 3.0, 4.0, 0.0, 0.0]  # base.mean_force
-    impacts = np.array([5, 1, 0, 0, 2])
-    w = converge.window_values(reals, impacts, 1.0, 2)
-    assert w["mean_energy"] == [2.0, 5.0]
-    assert w["rms_corner"] == [np.sqrt(12.5), 1.0]
-    assert w["peak_corner"] == [5.0, 2.0]
-    assert w["rms_base_force"] == [np.sqrt(12.5), 0.0]
-    assert w["damping_loss_rate"] == [2.0, 6.0]
-    assert w["contact_loss_rate"] == [0.0, 2.0]
-    assert w["impact_rate"] == [1.0, 2.0]
-    # The peak: the largest window's, spread of the window peaks; the others: the mean, σ/√K.
-    assert converge.value_and_spread("peak_corner", [5.0, 2.0]) == (5.0, np.std([5, 2], ddof=1))
-    assert converge.value_and_spread("impact_rate", [1.0, 2.0]) == (
-        1.5, np.std([1, 2], ddof=1) / np.sqrt(2))
 
 
 def test_free_dofs_and_backend_follow_the_library():

@@ -19,8 +19,6 @@ import tempfile
 import time
 import zipfile
 
-ELEMENT = {"argyris": 1, "fvs": 2}
-
 _EXTRACTED = {}
 _SHIPPED = set()  # the ids of the clients whose workers have the package (`ship_package`)
 
@@ -124,19 +122,3 @@ def dask_client(scheduler=None, workers=None, serial=False):
     with local_cluster(workers or os.cpu_count()) as cluster, Client(cluster) as client:
         yield client
 
-
-def parse_value(name, text, variables):
-    """The start value `text` of the FMU variable `name` as its type wants it (`variables`: name
-    -> fmpy ScalarVariable); `mesh.element` also takes the element's name."""
-    kind = variables[name].type if name in variables else None
-    if kind is None:
-        raise SystemExit(f"{name} is not a variable of the FMU")
-    if kind == "Boolean":
-        if str(text).lower() not in ("true", "false", "1", "0"):
-            raise SystemExit(f"{name} is Boolean: true or false, not {text}")
-        return str(text).lower() in ("true", "1")
-    if kind == "Enumeration" or name == "mesh.element":
-        return ELEMENT[text] if text in ELEMENT else int(text)
-    if kind == "Integer":
-        return int(text)
-    return float(text)

@@ -67,7 +67,6 @@ progress on stderr; the last line of stdout `converged: ...` or `not converged: 
 """
 
 import argparse
-import json
 import math
 import pathlib
 import sys
@@ -77,25 +76,17 @@ import uuid
 import numpy as np
 
 from plateimpact_tools import DEFAULT_FMU
-from plateimpact_tools.fmu_dask import ELEMENT, dask_client, fmu_dir, parse_value, run_tasks
+from plateimpact_tools import scene_values
+from plateimpact_tools.fmu_dask import dask_client, fmu_dir, run_tasks
+from plateimpact_tools.plotting import pyplot, save
+from plateimpact_tools.scene_values import ELEMENT, parse_value
+from plateimpact_tools.windows import QUANTITIES, REALS, value_and_spread, window_values
 
-# name -> (unit, one-line definition); see the module docs.
-QUANTITIES = {
-    "mean_energy": ("J", "time mean of energy.total"),
-    "rms_corner": ("m", "RMS of corner1.displacement u(Lx, 0)"),
-    "peak_corner": ("m", "max |u| over the free corners (Lx, 0), (Lx, Ly)"),
-    "rms_base_force": ("N", "RMS of base.mean_force"),
-    "damping_loss_rate": ("W", "energy.damping_loss gained per second"),
-    "contact_loss_rate": ("W", "energy.contact_loss gained per second"),
-    "impact_rate": ("1/s", "contact.impacts per second"),
-}
 # Counts: in a periodic response their window spread is 0, so two settings with the same count
 # pass, yet the count can still change further down the ladder (docs/accuracy/damping.md, β only
 # at 35 Hz: Argyris 14 × 10 counts 2, 2, 2.84 impacts per period at Δt = 1e-4, 1e-5, 1e-6 s).
 # They must agree over one more level: both pairs ending at the recommended setting pass.
 COUNTS = {"impact_rate"}
-REALS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.damping_loss",
-         "energy.contact_loss", "base.mean_force"]
 
 # The start of the warning the FMU logs at ExitInitializationMode (src/advice.rs) for settings
 # whose impact statistics may not converge; the study passes it on as its advice.
@@ -207,36 +198,6 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
     cpu = time.thread_time() - cpu0
     return {"windows": window_values(reals, impacts, window_steps * h, windows),
             "warning": warning, "cpu": cpu}, cpu
-
-
-def window_values(reals, impacts, length, windows):
-    """Each quantity's value in each window: `reals` holds REALS at the first window's start and
-    after each step, `impacts` the impacts of the step ending at each sample, `length` (s) is one
-    window's duration."""
-    c1, c2, energy, damping, contact, force = reals.T
-    steps = (len(reals) - 1) // windows
-    out = {q: [] for q in QUANTITIES}
-    for i in range(windows):
-        a, b = i * steps, (i + 1) * steps  # the samples after the window's steps: a+1 … b
-        inside = slice(a + 1, b + 1)
-        out["mean_energy"].append(float(np.mean(energy[inside])))
-        out["rms_corner"].append(float(np.sqrt(np.mean(c1[inside] ** 2))))
-        out["peak_corner"].append(float(max(np.abs(c1[inside]).max(), np.abs(c2[inside]).max())))
-        out["rms_base_force"].append(float(np.sqrt(np.mean(force[inside] ** 2))))
-        out["damping_loss_rate"].append(float(damping[b] - damping[a]) / length)
-        out["contact_loss_rate"].append(float(contact[b] - contact[a]) / length)
-        out["impact_rate"].append(float(impacts[inside].sum()) / length)
-    return out
-
-
-def value_and_spread(quantity, values):
-    """A run's value and spread from its window values (module docs)."""
-    values = np.asarray(values, dtype=float)
-    k = len(values)
-    spread = float(np.std(values, ddof=1)) if k > 1 else math.nan
-    if quantity == "peak_corner":
-        return float(values.max()), spread
-    return float(values.mean()), spread / math.sqrt(k)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -652,9 +613,7 @@ class Study:
         """Work-precision: each run setting's relative difference from the reference (the
         recommended setting, or else the last one run), with 2σ error bars, against its CPU seconds
         per simulated second; the settings of each ladder joined in ladder order."""
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
 
         fig, ax = plt.subplots(figsize=(7.5, 5))
         colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -689,36 +648,17 @@ class Study:
                      f"(tolerance {self.tolerance:g})", fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        save(fig, path)
 
 
 # ----------------------------------------------------------------------------------------------
 # Command line
 
 def load_scene(path):
-    """Start values from a JSON or TOML file, flat or grouped (module docs). scenes/*.json also
-    hold the library's own settings and the stop time, which are no FMU variables: skipped."""
-    text = pathlib.Path(path).read_text()
-    if str(path).endswith(".toml"):
-        import tomllib
-        data = tomllib.loads(text)
-    else:
-        data = json.loads(text)
-    flat = {}
-
-    def walk(prefix, node):
-        for key, value in node.items():
-            name = f"{prefix}{key}"
-            if isinstance(value, dict):
-                walk(name + ".", value)
-            else:
-                flat[name] = value
-    walk("", data)
-    for name in ("stop_time", "solver.qp", "solver.linear", "solver.impact_law"):
-        flat.pop(name, None)
-    return flat
+    """Start values from a JSON or TOML file, flat or grouped (module docs; `scene_values.read`).
+    scenes/*.json also hold the library's own settings and the stop time, which are no FMU
+    variables: skipped."""
+    return scene_values.read(path)[0]
 
 
 def main(argv=None):

@@ -19,13 +19,12 @@ import csv
 import pathlib
 import statistics
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from plateimpact_tools import ROOT
+from plateimpact_tools.plotting import pyplot, save
 
-from plateimpact_tools import ROOT  # noqa: E402
+plt = pyplot()
 
 TIMINGS = ["assembly_s", "setup_s", "us_per_step", "free_us", "qp_us"]
 MEMORY = ["peak_setup_mib", "peak_end_mib"]
@@ -149,8 +148,7 @@ def main():
     axes[2].legend(fontsize=8)
     figure.suptitle("forced-35hz, Δt = 1e-4 s, 500 steps, meshes 10 × 7 to 100 × 50 "
                     "(squares: modal backend, circles: sparse)")
-    figure.tight_layout()
-    figure.savefig(out / "scale.png", dpi=110)
+    save(figure, out / "scale.png")
 
 
 if __name__ == "__main__":
