@@ -79,7 +79,11 @@ fn mentioned_modules(text: &str) -> Vec<String> {
                 .map_or(text.len(), |n| at + n);
             text[at..end].trim_end_matches('.').to_string()
         })
-        .filter(|name| !name.split('.').any(|part| part == "NAME" || part.is_empty()))
+        .filter(|name| {
+            !name
+                .split('.')
+                .any(|part| part == "NAME" || part.is_empty())
+        })
         .collect()
 }
 
