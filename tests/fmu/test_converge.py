@@ -23,6 +23,7 @@ import pytest
 
 from conftest import ROOT
 from plateimpact_tools import windows
+from plateimpact_tools.converge import cost
 from plateimpact_tools.converge import study as converge
 
 TOLERANCE = 0.01
@@ -195,52 +196,36 @@ def test_a_count_must_agree_over_one_more_level():
     assert study.span == 3
 
 
-def test_free_dofs_and_backend_follow_the_library():
-    """converge.free_dofs and converge.backend give every mesh of docs/scale/scale.csv the free
-    dofs and the backend the library reported for it (ProblemSize::of and backend_choice::resolve,
-    through `cargo bench --bench solver -- --scale`); a modal damping ratio makes any size modal."""
-    with open(ROOT / "docs" / "scale" / "scale.csv") as f:
-        rows = list(csv.DictReader(f))
-    assert {r["backend"] for r in rows} == {"Modal", "Sparse"}
-    for row in rows:
-        element, nx, ny = {"Argyris": 1, "Fvs": 2}[row["element"]], int(row["nx"]), int(row["ny"])
-        assert converge.free_dofs(element, nx, ny) == int(row["free_dofs"]), row["case"]
-        assert converge.backend({}, element, nx, ny) == row["backend"].lower(), row["case"]
-    # Argyris 20 × 10 is the last modal mesh of its row, 21 × 10 the first sparse one.
-    assert converge.free_dofs(1, 20, 10) == 1951 and converge.free_dofs(1, 21, 10) == 2048
-    assert converge.backend({}, 1, 21, 10) == "sparse"
-    assert converge.backend({"damping.modal_ratio": 0.01}, 1, 100, 50) == "modal"
-
-
-def test_the_estimate_follows_the_backend():
+def test_the_estimate_follows_the_backend(fmu_path):
     """From a run on Argyris 14 × 8 (modal), the estimate of 20 × 10 (1951 free dofs, modal) is
     the modal model's ratio, that of 21 × 10 (2048, just above the limit) the sparse model's over
     the modal one's: over 5 times what the modal model carried past the limit would say. With a
     modal damping ratio 21 × 10 stays modal and so does its estimate. Halving Δt on one mesh less
     than doubles it (set-up and communication steps stay). The windows of the documented
-    example: 1 s of transient and 8 of 0.2857 s, read every 1e-4 s."""
-    study = converge.Study("no.fmu", {}, ["mean_energy"], TOLERANCE, 120.0, transient=1.0,
+    example: 1 s of transient and 8 of 0.2857 s, read every 1e-4 s. The sizes and backends are
+    the FMU's (tests/fmu/test_calculated.py checks them)."""
+    study = converge.Study(fmu_path, {}, ["mean_energy"], TOLERANCE, 120.0, transient=1.0,
                            window=0.2857, windows=8, dt0=1e-4, mesh=True, replicas=1,
                            progress=False)
     study.results[(14, 8, 1e-4, 0)] = {"windows": {}, "warning": None, "cpu": 2.0}
     known = (14, 8, 1e-4)
     sim, h = study.simulated, study.h
+    assert study.size((20, 10, 1e-4)) == (1951, "modal")
+    assert study.size((21, 10, 1e-4)) == (2048, "sparse")
 
     def modal(nx, ny, dt):  # the modal model whatever the size
-        (setup, ps), (step, p) = converge.RUN_COST[(1, "modal")]
-        n = converge.free_dofs(1, nx, ny) / 1000
-        return (setup * n ** ps + 1e-6 * step * n ** p * sim / dt
-                + 1e-6 * converge.COMMUNICATION_STEP_US * sim / h)
+        return cost.run_cost((study.size((nx, ny, dt))[0], "modal"), 1, dt, sim, h)
 
     assert study.estimate(known, (20, 10, 1e-4)) == pytest.approx(
         2.0 * modal(20, 10, 1e-4) / modal(14, 8, 1e-4))
     above = study.estimate(known, (21, 10, 1e-4))
-    (_, _), (step, p) = converge.RUN_COST[(1, "sparse")]
-    sparse = 1e-6 * step * 2.048 ** p * sim / 1e-4 + 1e-6 * converge.COMMUNICATION_STEP_US * sim / h
+    (_, _), (step, p) = cost.RUN_COST[(1, "sparse")]
+    sparse = 1e-6 * step * 2.048 ** p * sim / 1e-4 + 1e-6 * cost.COMMUNICATION_STEP_US * sim / h
     assert above == pytest.approx(2.0 * sparse / modal(14, 8, 1e-4))
     assert above > 5 * 2.0 * modal(21, 10, 1e-4) / modal(14, 8, 1e-4)
     assert above > 5 * study.estimate(known, (20, 10, 1e-4))
     study.scene["damping.modal_ratio"] = 0.01
+    assert study.size((21, 10, 1e-4)) == (2048, "modal")
     assert study.estimate(known, (21, 10, 1e-4)) == pytest.approx(
         2.0 * modal(21, 10, 1e-4) / modal(14, 8, 1e-4))
     assert 1.0 < study.estimate(known, (14, 8, 5e-5)) / 2.0 < 2.0

@@ -22,6 +22,7 @@ import sys
 
 from plateimpact_tools import DEFAULT_FMU, SCENES
 from plateimpact_tools.converge import study as converge
+from plateimpact_tools.converge.cost import plate_size
 
 # (element, nx, ny): Argyris (1) and FVS (2), modal up to 2000 free dofs and sparse above.
 MESHES = [(1, 10, 7), (1, 14, 8), (1, 20, 10), (1, 21, 12), (1, 30, 15), (1, 40, 20),
@@ -41,13 +42,14 @@ def fit(points):
     return math.exp(my - p * mx), p
 
 
-def measure(blob, digest, scene, element, nx, ny):
-    """(backend, free dofs, CPU s of the short run, CPU µs per step at h = Δt)."""
+def measure(fmu, blob, digest, scene, element, nx, ny):
+    """(backend, free dofs (both as the FMU reports them), CPU s of the short run, CPU µs per
+    step at h = Δt)."""
     values = dict(scene, **{"mesh.element": element, "mesh.nx": nx, "mesh.ny": ny})
-    kind = converge.backend(values, element, nx, ny)
+    n, kind = plate_size(fmu, values)
     cpu = [converge.run_setting(blob, digest, values, DT, 0, steps // 2, 2)[1]
            for steps in (SHORT, SHORT + EXTRA[kind])]
-    return kind, converge.free_dofs(element, nx, ny), cpu[0], 1e6 * (cpu[1] - cpu[0]) / EXTRA[kind]
+    return kind, n, cpu[0], 1e6 * (cpu[1] - cpu[0]) / EXTRA[kind]
 
 
 def main():
@@ -58,12 +60,12 @@ def main():
     digest = hashlib.sha256(blob).hexdigest()
     scene = converge.load_scene(SCENES / "forced-35hz-damped.json")
     scene["solver.time_step"] = DT
-    overhead = measure(blob, digest, scene, *TINY)[3]
+    overhead = measure(args.fmu, blob, digest, scene, *TINY)[3]
     print(f"# one communication step with its reads (Argyris 2 x 1): {overhead:.2f} us")
     print("element,nx,ny,free_dofs,backend,cpu_short_s,us_per_step_with_reads,us_per_step,setup_s")
     steps, setups = {}, {}
     for element, nx, ny in MESHES:
-        kind, n, short, us = measure(blob, digest, scene, element, nx, ny)
+        kind, n, short, us = measure(args.fmu, blob, digest, scene, element, nx, ny)
         own = us - overhead
         setup = short - 1e-6 * SHORT * us
         steps.setdefault((element, kind), []).append((n, own))

@@ -77,6 +77,7 @@ import numpy as np
 
 from plateimpact_tools import DEFAULT_FMU
 from plateimpact_tools import scene_values
+from plateimpact_tools.converge.cost import plate_size, run_cost
 from plateimpact_tools.fmu_dask import dask_client, fmu_dir, run_tasks
 from plateimpact_tools.plotting import pyplot, save
 from plateimpact_tools.scene_values import ELEMENT, parse_value
@@ -218,60 +219,6 @@ def refine_mesh(nx, ny):
     return math.ceil(MESH_FACTOR * nx), math.ceil(MESH_FACTOR * ny)
 
 
-# The FMU's linear backend (src/backend_choice.rs, `resolve`): the FMU has no solver.linear, so
-# `auto` decides: the dense modal backend up to this many free dofs, the sparse one above, and the
-# modal one at every size when damping.modal_ratio > 0 (modal damping needs the eigenbasis).
-MODAL_AUTO_LIMIT = 2000
-# The cost model of a run (`run_cost`), per (mesh.element, backend): its set-up, (s, p), and its
-# internal step, (µs, p), each c·(n/1000)^p in the free dofs n; plus a communication step with the
-# study's reads. Measured through the FMU on the preset forced-35hz-damped at Δt = h = 1e-4 s
-# (`python -m plateimpact_tools.converge.step_cost`; a 2-core development machine, load average about 2): per
-# internal step 6.6 → 35 µs from Argyris 10 × 7 to 20 × 10 (708 → 1951 free dofs, modal), 1655 µs
-# on 21 × 12 (2428, sparse), 3224 on 30 × 15 and 6002 on 40 × 20; FVS 12 → 70 µs from 14 × 10 to
-# 30 × 15 (462 → 1440, modal), 1360 on 40 × 20 (2520, sparse) and 3224 on 60 × 30. The modal set-up
-# (the eigen-decomposition) grows like n^2.7 and takes 4.9 s at 1951 free dofs; the sparse one is
-# small against its steps and left out. Only ratios of the model enter the estimate
-# (`Study.estimate`), so a slower machine scales both sides.
-RUN_COST = {
-    (1, "modal"): ((0.738, 2.74), (11.6, 1.64)),
-    (1, "sparse"): ((0.0, 0.0), (605.0, 1.14)),
-    (2, "modal"): ((1.13, 2.22), (37.2, 1.62)),
-    (2, "sparse"): ((0.0, 0.0), (499.0, 1.09)),
-}
-COMMUNICATION_STEP_US = 9.23  # doStep and the reads through fmpy, on Argyris 2 × 1
-
-
-def free_dofs(element, nx, ny):
-    """The free dofs of an nx × ny mesh, counted as src/budget.rs (`ProblemSize::of`) does:
-    Argyris 6 per vertex and 1 per edge (diagonals included), the clamped edge x = 0 holding 5 per
-    vertex and its edges' one each; FVS 3 per vertex, the clamped column's all held."""
-    vertices = (nx + 1) * (ny + 1)
-    if element == 1:
-        edges = nx * (ny + 1) + (nx + 1) * ny + nx * ny
-        return 6 * vertices + edges - (5 * (ny + 1) + ny)
-    if element == 2:
-        return 3 * vertices - 3 * (ny + 1)
-    raise ValueError(f"mesh.element {element}: 1 (Argyris) or 2 (FVS)")
-
-
-def backend(scene, element, nx, ny):
-    """The linear backend the FMU picks for the start values `scene` on an nx × ny mesh of
-    `element`: "modal" or "sparse" (src/backend_choice.rs)."""
-    if float(scene.get("damping.modal_ratio", 0.0)) > 0:
-        return "modal"
-    return "modal" if free_dofs(element, nx, ny) <= MODAL_AUTO_LIMIT else "sparse"
-
-
-def run_cost(scene, element, nx, ny, dt, simulated, h):
-    """The model's CPU seconds (RUN_COST) of a run of `simulated` seconds at Δt = `dt` on an
-    nx × ny mesh of `element`, outputs read every `h`: the set-up, simulated/Δt internal steps and
-    simulated/h communication steps, on the backend the FMU picks (`backend`)."""
-    (setup, p_setup), (step, p_step) = RUN_COST[(element, backend(scene, element, nx, ny))]
-    n = free_dofs(element, nx, ny) / 1000
-    return (setup * n ** p_setup + 1e-6 * step * n ** p_step * simulated / dt
-            + 1e-6 * COMMUNICATION_STEP_US * simulated / h)
-
-
 class Study:
     """The ladders, their runs and the decisions (module docs). A setting is (nx, ny, Δt); a run
     is a setting and its replica index. `run(client)` returns the verdict line; `rows`, `report`
@@ -344,20 +291,24 @@ class Study:
     def cost(self, setting):
         return self.results[setting + (0,)]["cpu"]
 
+    def size(self, setting):
+        """(free dofs, backend) of a setting's plate, as the FMU reports them (`cost.plate_size`)."""
+        nx, ny, _ = setting
+        return plate_size(self.fmu, dict(self.scene, **{"mesh.nx": nx, "mesh.ny": ny}))
+
     def estimate(self, known, setting):
         """CPU seconds of `setting` from those of the run setting `known`: its cost times the
-        ratio of the two settings' model costs (`run_cost`), each on the backend the FMU picks for
-        its mesh (`backend`: modal up to 2000 free dofs, sparse above). Within the modal backend
-        a step grows like n^1.6 and the set-up like n^2.2–2.7; across the switch an internal step
-        costs some 50 to 100 times more (Argyris 20 × 10, 1951 free dofs, modal: 35 µs; 21 × 12,
-        2428, sparse: 1655 µs). Halving Δt doubles the internal steps but not the set-up nor the
-        communication steps (h is fixed). On small meshes fmpy's cost per output dominates, which
-        the model's communication step does not fully hold (docs/converge example: Argyris
-        4 × 2 → 9 × 5, 5.6× the cells, 2.1× the CPU), so there the estimate errs towards stopping
-        early."""
+        ratio of the two settings' model costs (`cost.run_cost`), each on the free dofs and the
+        backend the FMU reports for its mesh (`size`). Within the modal backend a step grows like
+        n^1.6 and the set-up like n^2.2–2.7; across the switch an internal step costs some 50 to 100
+        times more (Argyris 20 × 10, 1951 free dofs, modal: 35 µs; 21 × 12, 2428, sparse:
+        1655 µs). Halving Δt doubles the internal steps but not the set-up nor the communication
+        steps (h is fixed). On small meshes fmpy's cost per output dominates, which the model's
+        communication step does not fully hold (docs/converge example: Argyris 4 × 2 → 9 × 5, 5.6×
+        the cells, 2.1× the CPU), so there the estimate errs towards stopping early."""
         e, simulated, h = self.element, self.simulated, self.h
-        return self.cost(known) * (run_cost(self.scene, e, *setting, simulated, h)
-                                   / run_cost(self.scene, e, *known, simulated, h))
+        return self.cost(known) * (run_cost(self.size(setting), e, setting[2], simulated, h)
+                                   / run_cost(self.size(known), e, known[2], simulated, h))
 
     # -- decisions
 
