@@ -8,8 +8,8 @@
 //! measured with `Instant` around set-up and stepping, are not disturbed by each other). The output
 //! directory (default `docs/accuracy`, with `--quick` a fresh temporary directory) receives
 //! `runs.csv` (one row per run), `frequencies.csv`, `table1.csv` and `traces.csv` (the reference
-//! corner trajectories); then `examples/studies/accuracy_plots.py`, run with the Python of
-//! `scripts/python-env`, writes the PNG plots and `README.md` there.
+//! corner trajectories); then `plateimpact_tools.studies.accuracy_plots` (tools/), run with the
+//! Python of `scripts/python-env`, writes the PNG plots and `README.md` there.
 //!
 //! Errors. The corner displacement u(Lx, 0, t) of each run is put on a common grid (every 1e-4 s,
 //! piecewise-linear in time between the steps of runs with Δt > 1e-4 s) and compared with
@@ -653,7 +653,7 @@ fn study() -> Result<(), String> {
     }
     dir.write("meta.csv", &meta)?;
 
-    dir.plot("accuracy_plots.py")?;
+    dir.plot("accuracy_plots")?;
 
     // Contact-free orders in Δt (time error alone, paper mesh, over every Δt at least twice the
     // reference's). The smooth control case must be second order (docs/scheme.md §6); the release

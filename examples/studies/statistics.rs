@@ -8,13 +8,13 @@
 //! `--study damping` runs the damping study instead ([`damping_plan`]): the undamped forcings
 //! with each damping model of [`damping_models`] (`--damping LABEL,LABEL` keeps those), written to
 //! `damping.csv` (the columns of `statistics.csv` plus `damping` after `scene`),
-//! `damping_meshes.csv` and `damping_meta.csv`, then `examples/studies/damping_plots.py` writes the plots
+//! `damping_meshes.csv` and `damping_meta.csv`, then `plateimpact_tools.studies.damping_plots` writes the plots
 //! and the generated part of `docs/accuracy/damping.md`. The other options below apply alike;
 //! with `--quick`, every model on Argyris 2 × 1 at Δt = 1e-4 and 1e-5 s on `forced-35hz` (about
 //! 2 s), in a temporary directory, checks the pipeline.
 //!
 //! A part of the study, to share it between processes (`--out` to separate directories; the
-//! CSVs are then concatenated and `examples/studies/statistics_plots.py DIR` run on the result): `--forcings
+//! CSVs are then concatenated and `python -m plateimpact_tools.studies.statistics_plots DIR` run on the result): `--forcings
 //! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
 //! ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the `energy` scene, the
 //! forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs those meshes only and
@@ -59,7 +59,7 @@
 //! Output (default `docs/accuracy`, with `--quick` a temporary directory): `statistics.csv` (one
 //! row per run and quantity: quantity, scene, element, nx, ny, dt, omega_max_dt, value, spread,
 //! wall_s), `meshes.csv` (ω₁ and ω_max per mesh), `replica_check.csv`, `statistics_meta.csv`;
-//! then `examples/studies/statistics_plots.py` writes the work-precision plots and `statistics.md`.
+//! then `plateimpact_tools.studies.statistics_plots` writes the work-precision plots and `statistics.md`.
 //! `--quick` runs a small subset (about 10 s) in a temporary directory and exits nonzero unless
 //! the pipeline completes and, on the damped 35 Hz scene on the Argyris 2 × 1 mesh, the statistics
 //! have converged once ω_max·Δt < 1 and the mean |base force| has not at the paper's Δt (see
@@ -1024,23 +1024,23 @@ fn study() -> Result<(), String> {
     dir.write(&file("statistics_meta.csv"), &meta)?;
     if partial {
         let script = if damping_study {
-            "damping_plots.py"
+            "damping_plots"
         } else {
-            "statistics_plots.py"
+            "statistics_plots"
         };
         eprintln!(
             "partial study done in {total_s:.1} s: concatenate its CSVs with the other parts', \
-             then run examples/studies/{script} on them"
+             then run `python -m plateimpact_tools.studies.{script} DIR` on them"
         );
         return Ok(());
     }
     eprintln!("runs done in {total_s:.1} s; plotting");
     if damping_study {
-        dir.plot("damping_plots.py")?;
+        dir.plot("damping_plots")?;
         let failures = dir.missing(&["damping.csv", "damping_meshes.csv", "damping_meta.csv"]);
         return dir.finish(failures);
     }
-    dir.plot("statistics_plots.py")?;
+    dir.plot("statistics_plots")?;
 
     let mut failures = quick_check(&quick_values);
     failures.extend(dir.missing(&[

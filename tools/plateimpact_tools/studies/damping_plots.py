@@ -1,11 +1,11 @@
 """Plots and the generated part of damping.md, from the CSVs of the damping study.
 
-Usage: damping_plots.py DIR [--quick]. Reads DIR/damping.csv, damping_meshes.csv, damping_meta.csv
+Usage: python -m plateimpact_tools.studies.damping_plots DIR [--quick]. Reads DIR/damping.csv, damping_meshes.csv, damping_meta.csv
 (`cargo run --release --example statistics -- --study damping`, which runs this); writes
 DIR/damping_wp_<quantity>.png, DIR/damping_contact_loss.png and the part of DIR/damping.md between
 the markers GENERATED_BEGIN and GENERATED_END (the rest of the page is hand-written).
 
-Each (scene, damping model) pair is a scene of `statistics_plots.py`, whose definitions this
+Each (scene, damping model) pair is a scene of `statistics_plots`, whose definitions this
 reuses (agree, reference, error, reaches, settled in Δt). In addition:
 - the reference (Argyris 14 × 10 at its smallest Δt) is *converged to a tolerance* when the
   Argyris 14 × 10 run at the next larger Δt and the FVS 14 × 10 run at the reference's Δt are both
@@ -27,8 +27,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import statistics_plots as sp  # noqa: E402
+from plateimpact_tools.studies import statistics_plots as sp  # noqa: E402
 
 SCENES = ["forced-35hz", "forced-60hz"]
 SCENE_SHORT = {"forced-35hz": "35 Hz, c = 9 mm", "forced-60hz": "60 Hz, c = 2 mm"}
@@ -46,7 +45,7 @@ QUANTITIES = ["mean_energy_J", "rms_corner_m", "mean_abs_base_force_N", "rms_bas
               "impacts_per_period", "contact_loss_per_period_J"]
 FINEST = ("argyris", 14, 10)
 FVS_FINEST = ("fvs", 14, 10)
-BEGIN = "<!-- GENERATED_BEGIN by examples/studies/damping_plots.py: do not edit below -->"
+BEGIN = "<!-- GENERATED_BEGIN by plateimpact_tools.studies.damping_plots: do not edit below -->"
 END = "<!-- GENERATED_END -->"
 
 
