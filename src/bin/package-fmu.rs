@@ -6,6 +6,11 @@
 //!   `modelDescription/modelDescription-fmi3.xml`) and its binaries under
 //!   `binaries/<platform tuple>/` (FMI 3.0 §2.5).
 //!
+//! The model descriptions are those the library was built with (`SHIPPED_FMI2_XML`,
+//! `SHIPPED_FMI3_XML`: the guid and instantiationToken derived from their content by build.rs), and
+//! each binary must carry both tokens, so that an FMU never pairs a description with a binary
+//! built from another.
+//!
 //! Every binary is the same cdylib (it exports the FMI 2.0 and the FMI 3.0 functions), built for
 //! one platform. Two modes (docs/platforms.md):
 //! * `cargo run --release --bin package-fmu`, the developer FMUs: `cargo build --release --lib`,
@@ -21,7 +26,9 @@
 
 #![deny(unsafe_code)]
 
-use plate_impact::fmi::variables::MODEL_IDENTIFIER;
+use plate_impact::fmi::variables::{
+    FMI2, FMI3, MODEL_IDENTIFIER, SHIPPED_FMI2_XML, SHIPPED_FMI3_XML,
+};
 use std::ffi::OsString;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -323,23 +330,43 @@ fn release_binaries(root: &Path, target: &Path) -> Result<Vec<Binary>, String> {
         .collect()
 }
 
-/// Writes the FMU `file` into `out_dir`: the model description at `description` and the binaries,
+/// Checks that every binary carries the tokens of both model descriptions (the instantiation
+/// functions compare the importer's token with them): a binary built from other descriptions, or a
+/// stale one, would refuse every instantiation.
+fn check_tokens(binaries: &[Binary]) -> Result<(), String> {
+    for binary in binaries {
+        for token in [FMI2.token, FMI3.token] {
+            let found = binary
+                .bytes
+                .windows(token.len())
+                .any(|w| w == token.as_bytes());
+            if !found {
+                return Err(format!(
+                    "the {} binary does not carry the token {token} of this build's model \
+                     descriptions: it was built from other sources",
+                    binary.fmi3
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes the FMU `file` into `out_dir`: the model description `description` and the binaries,
 /// each under `binaries/<folder>/` where `folder` gives it one.
 fn write_fmu(
-    root: &Path,
     out_dir: &Path,
     file: &str,
     description: &str,
     binaries: &[Binary],
     folder: impl Fn(&Binary) -> Option<&'static str>,
 ) -> Result<PathBuf, String> {
-    let description = read(&root.join(description))?;
     let path = out_dir.join(file);
     let out = std::fs::File::create(&path)
         .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
     let mut zip = zip::ZipWriter::new(out);
     let options = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
-    let mut entries = vec![("modelDescription.xml".to_string(), description.as_slice())];
+    let mut entries = vec![("modelDescription.xml".to_string(), description.as_bytes())];
     for binary in binaries {
         if let Some(folder) = folder(binary) {
             entries.push((
@@ -394,23 +421,22 @@ fn run() -> Result<Vec<PathBuf>, String> {
     } else {
         vec![host_binary(root, &target)?]
     };
+    check_tokens(&binaries)?;
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
     Ok(vec![
         write_fmu(
-            root,
             &out_dir,
             &format!("{MODEL_IDENTIFIER}.fmu"),
-            "modelDescription/modelDescription.xml",
+            SHIPPED_FMI2_XML,
             &binaries,
             |b| b.fmi2,
         )?,
         write_fmu(
-            root,
             &out_dir,
             &format!("{MODEL_IDENTIFIER}-fmi3.fmu"),
-            "modelDescription/modelDescription-fmi3.xml",
+            SHIPPED_FMI3_XML,
             &binaries,
             |b| Some(b.fmi3),
         )?,
