@@ -14,6 +14,9 @@ mod snapshot;
 mod values;
 
 pub use snapshot::PlateSnapshot;
+/// The FMI value of parameter `v` in `scene`, as the FMU reports it (the element family as its
+/// code): for the parameter sets shipped in the FMU (`src/bin/package-fmu/contents.rs`).
+pub use values::parameter as parameter_value;
 
 use crate::advice::StatisticsAdvice;
 use crate::fmi::ffi::panic_text;
