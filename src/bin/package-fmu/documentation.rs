@@ -120,7 +120,7 @@ fn escape(text: &str) -> String {
 }
 
 /// Inline Markdown of one line or cell (already split from its block) as HTML: `code`, **bold**
-/// and [links](target); a relative link becomes its text and the repository path it names.
+/// and `[links](target)`; a relative link becomes its text and the repository path it names.
 fn inline(text: &str) -> String {
     let mut out = String::new();
     let mut rest = text;
