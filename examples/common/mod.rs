@@ -120,6 +120,20 @@ impl StudyDir {
         }
     }
 
+    /// Makes sure the directory holds the hand-written page `name` of docs/`docs`, whose
+    /// generated tables the write step fills: a directory other than docs/`docs` (a quick run's,
+    /// or `--out`) gets a copy of the committed page when it has none.
+    pub fn page(&self, docs: &str, name: &str) -> Result<(), String> {
+        let target = self.path.join(name);
+        if target.exists() {
+            return Ok(());
+        }
+        let source = repository().join("docs").join(docs).join(name);
+        std::fs::copy(&source, &target)
+            .map(|_| ())
+            .map_err(|e| format!("{}: {e}", source.display()))
+    }
+
     /// One message per file of `names` that is missing or empty.
     pub fn missing(&self, names: &[&str]) -> Vec<String> {
         names

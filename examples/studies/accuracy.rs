@@ -59,18 +59,21 @@ fn study() -> Result<(), String> {
     dir.write("traces.csv", &results.traces_csv())?;
     dir.write("reference_check.csv", &results.reference_check_csv()?)?;
     dir.write("table1.csv", &run::table1_csv(&plan)?)?;
+    dir.write("paper_table1.csv", &plan::paper_table1_csv(&plan))?;
     let total_s = started.elapsed().as_secs_f64();
     eprintln!("runs done in {total_s:.1} s; writing tables and plots");
     dir.write(
         "meta.csv",
         &meta(&results, &args, &revision, dir.quick, total_s),
     )?;
+    dir.page("accuracy", "README.md")?;
     dir.plot("accuracy_plots.py")?;
     let mut failures = order_check(&results);
     failures.extend(dir.missing(&[
         "runs.csv",
         "frequencies.csv",
         "table1.csv",
+        "paper_table1.csv",
         "traces.csv",
         "reference_check.csv",
         "meta.csv",

@@ -130,6 +130,7 @@ fn study() -> Result<(), String> {
         return Ok(());
     }
     eprintln!("runs done in {total_s:.1} s; writing tables and plots");
+    dir.page("accuracy", files.page())?;
     dir.plot(files.script())?;
     let mut failures = if files.0 {
         Vec::new()
@@ -164,6 +165,15 @@ impl Files {
             "damping_plots.py"
         } else {
             "statistics_plots.py"
+        }
+    }
+
+    /// The hand-written page whose tables the write step fills.
+    fn page(&self) -> &'static str {
+        if self.0 {
+            "damping.md"
+        } else {
+            "statistics.md"
         }
     }
 

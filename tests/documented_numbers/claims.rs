@@ -163,7 +163,6 @@ impl Claims {
         self.push(quote, Kind::Range, values.to_vec());
     }
 
-
     /// Every failure of the document: claims that do not hold or are not in the prose, given
     /// texts that are not, and numbers of the prose that nothing covers.
     pub fn failures(&self) -> Vec<String> {

@@ -148,8 +148,6 @@ impl Table {
         );
         rows[0]
     }
-
-
 }
 
 /// One row of a [`Table`].

@@ -10,6 +10,17 @@ pub const GRID: f64 = 1e-4;
 /// Converged natural frequencies of the 0.4 × 0.2 m plate (Hz), from `docs/elements.md` §7.
 pub const REFERENCE_HZ: [f64; 6] = [53.821, 231.63, 335.41, 753.91, 941.26, 1447.8];
 
+/// The paper's Table 1: CPU time (s) of 1 s of the `forced` scene on its 140-element meshes at
+/// each Δt (s), Matlab quadprog on a 2010 laptop, which `table1.csv` is compared with.
+pub const PAPER_TABLE1: [(ElementKind, f64, f64); 6] = [
+    (ElementKind::Argyris, 1e-3, 80.0),
+    (ElementKind::Argyris, 1e-4, 870.0),
+    (ElementKind::Argyris, 1e-5, 8880.0),
+    (ElementKind::Fvs, 1e-3, 120.0),
+    (ElementKind::Fvs, 1e-4, 1220.0),
+    (ElementKind::Fvs, 1e-5, 12220.0),
+];
+
 /// The study's scenes: the label used in the CSV and how it is built from a named scene.
 /// `free` is `energy` without its obstacle; `free-smooth` is a contact-free control case whose
 /// solution is smooth in time for every mode of the mesh (see [`base_motion`]).
@@ -195,4 +206,15 @@ impl Plan {
             .expect("paper mesh")
             .1
     }
+}
+
+/// `paper_table1.csv`: [`PAPER_TABLE1`] on the plan's paper meshes.
+pub fn paper_table1_csv(plan: &Plan) -> String {
+    let mut csv = String::from("element,nx,ny,dt,cpu_s\n");
+    for (element, dt, cpu_s) in PAPER_TABLE1 {
+        let (nx, ny) = plan.paper(element);
+        let name = crate::common::element_name(element);
+        csv.push_str(&format!("{name},{nx},{ny},{dt:e},{cpu_s}\n"));
+    }
+    csv
 }
