@@ -22,8 +22,11 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The documents whose prose is checked, each with the function that makes its claims.
-const DOCUMENTS: [(&str, fn() -> claims::Claims); 5] = [
+/// A checked document and the function that makes its claims.
+type Document = (&'static str, fn() -> claims::Claims);
+
+/// The documents whose prose is checked.
+const DOCUMENTS: [Document; 5] = [
     ("README.md", readme::claims),
     ("docs/studies.md", studies::claims),
     ("docs/accuracy/README.md", accuracy::claims),
