@@ -758,9 +758,9 @@ fn finer_reference(c: &mut Claims, d: &Study) {
         &["argyris:20x14", "fvs:28x20"].map(|m| d.error(s35, "beta", q, m, 1e-6)),
     );
     let ((pa, la), (pf, lf)) = extrapolated(d);
-    c.values("fall like h^{0.74} (Argyris) and h^{0.42} (FVS)", &[pa, pf]);
+    c.values("has p = {0.74} (Argyris) and p = {0.42} (FVS)", &[pa, pf]);
     c.values(
-        "lie {2.4} % (Argyris) and {3.7} % (FVS) above the reference",
+        "v∞ lie {2.4} % (Argyris) and {3.7} % (FVS) above the reference",
         &[la, lf],
     );
     c.value(
