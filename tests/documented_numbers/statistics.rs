@@ -50,6 +50,32 @@ pub fn reference<'a>(runs: &'a Runs, scene: &str, q: &str) -> &'a super::study::
     runs.smallest(scene, q, PAPER)
 }
 
+/// ω_max (rad/s) of `mesh` (`argyris:10x7`), from meshes.csv.
+pub fn omega_max(mesh: &str) -> f64 {
+    let (element, cells) = mesh.split_once(':').expect("mesh");
+    let (nx, ny) = cells.split_once('x').expect("cells");
+    table(&format!("{DIR}meshes.csv"))
+        .one(&format!("element={element} nx={nx} ny={ny}"))
+        .number("omega_max_rad_s")
+}
+
+/// The number of settings (scene, mesh, Δt) the study ran.
+pub fn settings() -> usize {
+    let runs = table(&format!("{DIR}statistics.csv"));
+    let mut distinct: Vec<String> = runs
+        .select("")
+        .iter()
+        .map(|r| {
+            ["scene", "element", "nx", "ny", "dt"]
+                .map(|k| r.text(k))
+                .join(" ")
+        })
+        .collect();
+    distinct.sort();
+    distinct.dedup();
+    distinct.len()
+}
+
 fn set_up(c: &mut Claims, runs: &Runs) {
     c.given(&[
         "2-core",
@@ -121,19 +147,7 @@ fn set_up(c: &mut Claims, runs: &Runs) {
         "0: at a fixed",
         "consistent with 0",
     ]);
-    let settings = table(&format!("{DIR}statistics.csv"));
-    let mut distinct: Vec<String> = settings
-        .select("")
-        .iter()
-        .map(|r| {
-            ["scene", "element", "nx", "ny", "dt"]
-                .map(|k| r.text(k).to_string())
-                .join(" ")
-        })
-        .collect();
-    distinct.sort();
-    distinct.dedup();
-    c.value("{380} settings", distinct.len() as f64);
+    c.value("{380} settings", settings() as f64);
     c.value("in each of {3} processes", meta_of("processes"));
     c.value("The runs took {51.5} min", meta_of("total_s") / 60.0);
     // One row per run: the first quantity of each scene.
@@ -200,14 +214,6 @@ fn spread(c: &mut Claims, runs: &Runs) {
 }
 
 fn time_step(c: &mut Claims, runs: &Runs) {
-    let meshes = table(&format!("{DIR}meshes.csv"));
-    let omega_max = |mesh: &str| {
-        let (element, cells) = mesh.split_once(':').expect("mesh");
-        let (nx, ny) = cells.split_once('x').expect("cells");
-        meshes
-            .one(&format!("element={element} nx={nx} ny={ny}"))
-            .number("omega_max_rad_s")
-    };
     c.value("ω_max = {7.61e6} rad/s", omega_max(PAPER));
     c.value("is ω_max·Δt = {761}", omega_max(PAPER) * 1e-4);
     let reference_dt = reference(runs, DAMPED, "rms_corner_m");
@@ -357,13 +363,9 @@ fn mesh_and_cost(c: &mut Claims, runs: &Runs) {
         })
         .count();
     c.value("only {4} forced statistics agree", agreeing as f64);
-    let meshes = table(&format!("{DIR}meshes.csv"));
-    let paper_omega = meshes
-        .one("element=argyris nx=10 ny=7")
-        .number("omega_max_rad_s");
     c.value(
         "{4e-7} at ω_max of the paper's mesh",
-        meta_of("alpha") / (2.0 * paper_omega),
+        meta_of("alpha") / (2.0 * omega_max(PAPER)),
     );
     let (fine, finer) = (
         runs.smallest(DAMPED, q, "argyris:6x4").value,

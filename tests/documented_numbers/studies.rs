@@ -63,64 +63,23 @@ fn accuracy(c: &mut Claims) {
         "{14} min here;",
         meta("docs/accuracy/meta.csv", "total_s") / 60.0,
     );
-    // The smooth start's fitted order in Δt on both paper meshes, as in docs/accuracy/README.md.
-    let order = |mesh: &str| {
-        let family = runs.select(&format!("scene=free-smooth strategy=fast mesh={mesh}"));
-        let finest = family
-            .iter()
-            .map(|r| r.number("dt"))
-            .fold(f64::INFINITY, f64::min);
-        let points: Vec<(f64, f64)> = family
-            .iter()
-            .filter(|r| {
-                !r.text("dt_rms").is_empty() && r.number("dt") >= 4.0 * finest * (1.0 - 1e-9)
-            })
-            .map(|r| (r.number("dt"), r.number("dt_rms")))
-            .collect();
-        fit_slope(&points)
-    };
-    for mesh in ["argyris:10x7", "fvs:14x10"] {
-        c.value("second order in Δt ({2.00} on both", order(mesh));
+    for mesh in ["mesh=argyris:10x7", "mesh=fvs:14x10"] {
+        c.value(
+            "second order in Δt ({2.00} on both",
+            super::accuracy::dt_order(&runs, "free-smooth", mesh),
+        );
     }
-    let clarabel = runs.select("strategy=clarabel");
-    let ratios: Vec<f64> = clarabel
-        .iter()
-        .map(|r| {
-            let same = ["scene", "element", "nx", "ny", "dt"]
-                .map(|k| format!("{k}={}", r.text(k)))
-                .join(" ");
-            r.number("wall_s") / runs.one(&format!("strategy=fast {same}")).number("wall_s")
-        })
-        .collect();
+    let ratios = super::accuracy::clarabel_ratios(&runs);
     c.range("trajectories at {7}× to {151}× less", &ratios);
 }
 
 fn statistics(c: &mut Claims) {
     let runs = Runs::load(&format!("{}statistics.csv", stats::DIR));
-    let meshes = table(&format!("{}meshes.csv", stats::DIR));
-    let omega_max = |mesh: &str| {
-        let (element, cells) = mesh.split_once(':').expect("mesh");
-        let (nx, ny) = cells.split_once('x').expect("cells");
-        meshes
-            .one(&format!("element={element} nx={nx} ny={ny}"))
-            .number("omega_max_rad_s")
-    };
+    let omega_max = stats::omega_max;
     let all: Vec<f64> = MESHES.iter().map(|m| omega_max(m)).collect();
     c.range("(ω_max from {2.2e5} to {7.6e6} rad/s", &all);
-    let settings = table(&format!("{}statistics.csv", stats::DIR));
-    let mut distinct: Vec<String> = settings
-        .select("")
-        .iter()
-        .map(|r| {
-            ["scene", "element", "nx", "ny", "dt"]
-                .map(|k| r.text(k))
-                .join(" ")
-        })
-        .collect();
-    distinct.sort();
-    distinct.dedup();
     let meta_of = |key: &str| meta(&format!("{}statistics_meta.csv", stats::DIR), key);
-    c.value("reduced grid is {380} settings", distinct.len() as f64);
+    c.value("reduced grid is {380} settings", stats::settings() as f64);
     c.value("{51.5} min of run time here", meta_of("total_s") / 60.0);
     c.value("in {3} processes side by side", meta_of("processes"));
     let (found, tried) = runs.settling(&FORCED, &AVERAGES, &MESHES);

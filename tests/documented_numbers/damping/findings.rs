@@ -13,15 +13,9 @@ pub(super) fn finer_reference(c: &mut Claims, d: &Study) {
         "FVS 14 × 10 lies {0.14} % above it",
         d.error(s35, "beta", q, "fvs:14x10", 1e-6),
     );
-    let finer = finer_errors(d);
-    let steady: Vec<f64> = finer
-        .iter()
-        .filter(|(s, qq, _)| !(*s == s35 && *qq == q))
-        .map(|e| e.2.abs())
-        .collect();
     c.upper(
         "move by at most {0.09} % from the reference on the finer meshes",
-        span(&steady).1,
+        Headline::of(d).finer_steady,
     );
     c.values(
         "it lies {0.55} % above the reference on Argyris 20 × 14 and {1.05} % above on FVS 28 × 20",
@@ -59,32 +53,18 @@ pub(super) fn contact_loss(c: &mut Claims, d: &Study) {
             .map(|m| loss(scene, m, dt))
             .collect::<Vec<f64>>()
     };
-    let from_4x2 = [
-        "argyris:4x2",
-        "argyris:6x4",
-        "argyris:10x7",
-        REFERENCE,
-        "fvs:7x5",
-        "fvs:14x10",
-    ];
-    let fine = [
-        "argyris:6x4",
-        "argyris:10x7",
-        REFERENCE,
-        "fvs:7x5",
-        "fvs:14x10",
-    ];
+    let (from_4x2, fine) = (&GRID[1..], &GRID[2..]);
     let s35 = "forced-35hz";
     c.range(
         "it is {15.8}–{16.6} J per forcing period",
-        &on(s35, &from_4x2, 1e-4),
+        &on(s35, from_4x2, 1e-4),
     );
     c.range(
         "{5.7}–{7.1} J at 1e-5 s on those from 6 × 4 on",
-        &on(s35, &fine, 1e-5),
+        &on(s35, fine, 1e-5),
     );
     c.value("({4.7} J on 4 × 2)", loss(s35, "argyris:4x2", 1e-5));
-    c.range("{2.6}–{3.9} J at 1e-6 s", &on(s35, &fine, 1e-6));
+    c.range("{2.6}–{3.9} J at 1e-6 s", &on(s35, fine, 1e-6));
     let at_1e7 = [
         "argyris:4x2",
         "argyris:6x4",
@@ -158,7 +138,7 @@ pub(super) fn contact_loss(c: &mut Claims, d: &Study) {
         "(Argyris 2 × 1: {0.71}, {0.57} J at",
         &[1e-6, 1e-7].map(|dt| loss(s35, "argyris:2x1", dt)),
     );
-    let smallest = span(&grid_values(d, s35, "beta", q, &fine)).0;
+    let smallest = span(&grid_values(d, s35, "beta", q, fine)).0;
     c.value("6 × 4 and finer, {1.1} J per period", smallest);
     c.value(
         "{14} times less than",

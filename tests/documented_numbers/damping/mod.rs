@@ -29,6 +29,17 @@ const FOUR: [&str; 4] = [
 
 const SCENES: [&str; 2] = ["forced-35hz", "forced-60hz"];
 
+/// The grid's meshes.
+const GRID: [&str; 7] = [
+    "argyris:2x1",
+    "argyris:4x2",
+    "argyris:6x4",
+    "argyris:10x7",
+    REFERENCE,
+    "fvs:7x5",
+    "fvs:14x10",
+];
+
 /// Every mesh of the grid from Argyris 6 × 4 on, and FVS 14 × 10.
 const FINER: [&str; 4] = ["argyris:6x4", "argyris:10x7", REFERENCE, "fvs:14x10"];
 
@@ -104,6 +115,49 @@ impl Study {
             }
         }
         worst
+    }
+}
+
+/// The β numbers both damping.md and the README state.
+struct Headline {
+    /// The largest |error| (%) of the four time averages at 1e-5 s, both scenes, on FVS 14 × 10
+    /// and on Argyris 10 × 7.
+    fvs_1e5: f64,
+    argyris_1e5: f64,
+    /// The wall times (s) of FVS 14 × 10 and Argyris 10 × 7 at 1e-5 s, 35 Hz.
+    wall_fvs: f64,
+    wall_argyris: f64,
+    /// The wall times (s) of both paper meshes at 1e-4 s, both scenes.
+    walls_paper: Vec<f64>,
+    /// The largest |error| (%) on the finer meshes of everything but the 35 Hz RMS base force,
+    /// and the largest error of that.
+    finer_steady: f64,
+    finer_moving: f64,
+}
+
+impl Headline {
+    fn of(d: &Study) -> Headline {
+        let rms = "rms_base_force_N";
+        let finer = finer_errors(d);
+        let moving = |e: &&(&str, &str, f64)| e.0 == "forced-35hz" && e.1 == rms;
+        let steady: Vec<f64> = finer
+            .iter()
+            .filter(|e| !moving(e))
+            .map(|e| e.2.abs())
+            .collect();
+        let moved: Vec<f64> = finer.iter().filter(moving).map(|e| e.2).collect();
+        Headline {
+            fvs_1e5: d.worst("beta", &SCENES, &FOUR, &["fvs:14x10"], &[1e-5]),
+            argyris_1e5: d.worst("beta", &SCENES, &FOUR, &["argyris:10x7"], &[1e-5]),
+            wall_fvs: d.wall("forced-35hz", "beta", "fvs:14x10", 1e-5),
+            wall_argyris: d.wall("forced-35hz", "beta", "argyris:10x7", 1e-5),
+            walls_paper: SCENES
+                .iter()
+                .flat_map(|s| PAPER_MESHES.iter().map(move |m| d.wall(s, "beta", m, 1e-4)))
+                .collect(),
+            finer_steady: span(&steady).1,
+            finer_moving: span(&moved).1,
+        }
     }
 }
 

@@ -36,27 +36,24 @@ pub(super) fn answer(c: &mut Claims, d: &Study) {
         "β = 2ζ₁/ω₁ = {5.913e-5} s, the preset",
         setting("beta", "damping.stiffness_proportional"),
     );
+    let h = Headline::of(d);
     c.upper(
         "within {0.3} % of the reference (Argyris 14 × 10 at 1e-6 s) on",
-        d.worst("beta", &SCENES, &FOUR, &["fvs:14x10"], &[1e-5]),
+        h.fvs_1e5,
     );
+    c.value("in {4.5} s per run", h.wall_fvs);
     c.value(
-        "in {4.5} s per run",
-        d.wall("forced-35hz", "beta", "fvs:14x10", 1e-5),
+        "Argyris 10 × 7 within {1.04} % (the 35 Hz RMS",
+        h.argyris_1e5,
     );
-    let worst_10x7 = d.worst("beta", &SCENES, &FOUR, &["argyris:10x7"], &[1e-5]);
-    c.value("Argyris 10 × 7 within {1.04} % (the 35 Hz RMS", worst_10x7);
     let rms = "rms_base_force_N";
     assert_eq!(
-        worst_10x7,
+        h.argyris_1e5,
         d.error("forced-35hz", "beta", rms, "argyris:10x7", 1e-5)
             .abs(),
         "the page names the 35 Hz RMS base force as the largest"
     );
-    c.value(
-        "base force) in {5.3} s.",
-        d.wall("forced-35hz", "beta", "argyris:10x7", 1e-5),
-    );
+    c.value("base force) in {5.3} s.", h.wall_argyris);
     let at_paper = |scenes: &[&str], quantities: &[&str]| {
         d.worst("beta", scenes, quantities, &PAPER_MESHES, &[1e-4])
     };
@@ -82,11 +79,7 @@ pub(super) fn answer(c: &mut Claims, d: &Study) {
         &low("mean_abs_base_force_N"),
     );
     c.range("and {9.4}–{9.5} % (RMS) low at 35 Hz", &low(rms));
-    let walls: Vec<f64> = SCENES
-        .iter()
-        .flat_map(|s| PAPER_MESHES.iter().map(move |m| d.wall(s, "beta", m, 1e-4)))
-        .collect();
-    c.range("in {0.7}–{1.3} s.", &walls);
+    c.range("in {0.7}–{1.3} s.", &h.walls_paper);
     let others = ["rayleigh-1k", "rayleigh-5k", "rayleigh-20k", "modal"];
     let worst60 = others
         .iter()
@@ -104,22 +97,11 @@ pub(super) fn answer(c: &mut Claims, d: &Study) {
     let (time, mesh) = reference_checks(d, "beta");
     c.upper("agree within {0.42} % (Δt)", time);
     c.upper("and {0.16} % (mesh) for the four", mesh);
-    let finer = finer_errors(d);
-    let steady: Vec<f64> = finer
-        .iter()
-        .filter(|(s, q, _)| !(*s == "forced-35hz" && *q == rms))
-        .map(|e| e.2.abs())
-        .collect();
     c.upper(
         "and mean base force by at most {0.09} %, but",
-        span(&steady).1,
+        h.finer_steady,
     );
-    let moving: Vec<f64> = finer
-        .iter()
-        .filter(|(s, q, _)| *s == "forced-35hz" && *q == rms)
-        .map(|e| e.2)
-        .collect();
-    c.value("RMS base force by up to {1.05} %.", span(&moving).1);
+    c.value("RMS base force by up to {1.05} %.", h.finer_moving);
 }
 
 pub(super) fn table_rows(c: &mut Claims, d: &Study) {
@@ -183,15 +165,7 @@ pub(super) fn table_rows(c: &mut Claims, d: &Study) {
         d.reference("forced-60hz", "beta", "impacts_per_period")
             .value,
     );
-    let grid_meshes = [
-        "argyris:4x2",
-        "argyris:6x4",
-        "argyris:10x7",
-        REFERENCE,
-        "fvs:7x5",
-        "fvs:14x10",
-    ];
-    let impacts: Vec<f64> = grid_meshes
+    let impacts: Vec<f64> = GRID[1..]
         .iter()
         .flat_map(|m| d.runs.select("forced-35hz/beta", "impacts_per_period", m))
         .filter(|r| r.dt <= 1e-6)
@@ -256,19 +230,10 @@ pub(super) fn rayleigh_rows(c: &mut Claims, d: &Study) {
         ),
     );
     // Rayleigh 5 kHz.
-    let all_grid = [
-        "argyris:2x1",
-        "argyris:4x2",
-        "argyris:6x4",
-        "argyris:10x7",
-        REFERENCE,
-        "fvs:7x5",
-        "fvs:14x10",
-    ];
     let mut every: f64 = 0.0;
     for q in &FOUR[..2] {
         let reference = d.reference(s60, "rayleigh-5k", q).value;
-        for v in grid_values(d, s60, "rayleigh-5k", q, &all_grid) {
+        for v in grid_values(d, s60, "rayleigh-5k", q, &GRID) {
             every = every.max(pct(v, reference).abs());
         }
     }

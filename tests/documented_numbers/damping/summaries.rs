@@ -16,28 +16,14 @@ pub fn brief(c: &mut Claims) {
         "mean energy within {1.4} %",
         d.worst("beta", &SCENES, &FOUR[..1], &PAPER_MESHES, &[1e-4]),
     );
-    let finer = finer_errors(d);
-    let rms = "rms_base_force_N";
-    let moving = finer
-        .iter()
-        .filter(|(s, q, _)| *s == "forced-35hz" && *q == rms)
-        .map(|e| e.2)
-        .fold(0.0, f64::max);
-    c.value("move the 35 Hz RMS base force by up to {1.05} %", moving);
-    let steady: Vec<f64> = finer
-        .iter()
-        .filter(|(s, q, _)| !(*s == "forced-35hz" && *q == rms))
-        .map(|e| e.2.abs())
-        .collect();
-    c.upper("the rest by at most {0.09} %)", span(&steady).1);
-    c.upper(
-        "gives {0.3} % on FVS 14 × 10",
-        d.worst("beta", &SCENES, &FOUR, &["fvs:14x10"], &[1e-5]),
-    );
+    let h = Headline::of(d);
     c.value(
-        "({1.04} % on Argyris 10 × 7)",
-        d.worst("beta", &SCENES, &FOUR, &["argyris:10x7"], &[1e-5]),
+        "move the 35 Hz RMS base force by up to {1.05} %",
+        h.finer_moving,
     );
+    c.upper("the rest by at most {0.09} %)", h.finer_steady);
+    c.upper("gives {0.3} % on FVS 14 × 10", h.fvs_1e5);
+    c.value("({1.04} % on Argyris 10 × 7)", h.argyris_1e5);
     let low = |q: &str| d.worst("beta", &["forced-35hz"], &[q], &PAPER_MESHES, &[1e-4]);
     c.upper("only within {5.6} % (mean)", low("mean_abs_base_force_N"));
     c.upper("and {9.5} % (RMS)", low("rms_base_force_N"));
@@ -68,27 +54,12 @@ pub fn readme(c: &mut Claims) {
         "`damping.stiffness_proportional` = {5.913e-5} s",
         setting("beta", "damping.stiffness_proportional"),
     );
-    c.upper(
-        "`base.force` within {0.3} % of the reference",
-        d.worst("beta", &SCENES, &FOUR, &["fvs:14x10"], &[1e-5]),
-    );
-    c.value(
-        "at {4.5} s per",
-        d.wall("forced-35hz", "beta", "fvs:14x10", 1e-5),
-    );
-    c.value(
-        "(Argyris 10 × 7: within {1.04} %",
-        d.worst("beta", &SCENES, &FOUR, &["argyris:10x7"], &[1e-5]),
-    );
-    c.value(
-        "1.04 %, {5.3} s)",
-        d.wall("forced-35hz", "beta", "argyris:10x7", 1e-5),
-    );
-    let walls: Vec<f64> = SCENES
-        .iter()
-        .flat_map(|s| PAPER_MESHES.iter().map(move |m| d.wall(s, "beta", m, 1e-4)))
-        .collect();
-    c.range("Δt = 1e-4 s ({0.7}–{1.3} s)", &walls);
+    let h = Headline::of(d);
+    c.upper("`base.force` within {0.3} % of the reference", h.fvs_1e5);
+    c.value("at {4.5} s per", h.wall_fvs);
+    c.value("(Argyris 10 × 7: within {1.04} %", h.argyris_1e5);
+    c.value("1.04 %, {5.3} s)", h.wall_argyris);
+    c.range("Δt = 1e-4 s ({0.7}–{1.3} s)", &h.walls_paper);
     let at_paper = |scenes: &[&str], quantities: &[&str]| {
         d.worst("beta", scenes, quantities, &PAPER_MESHES, &[1e-4])
     };
@@ -108,14 +79,7 @@ pub fn readme(c: &mut Claims) {
     );
     let (_, mesh) = reference_checks(d, "beta");
     c.upper("FVS 14 × 10 within {0.16} %", mesh);
-    let finer = finer_errors(d);
-    let rms = "rms_base_force_N";
-    let steady: Vec<f64> = finer
-        .iter()
-        .filter(|(s, q, _)| !(*s == "forced-35hz" && *q == rms))
-        .map(|e| e.2.abs())
-        .collect();
-    c.upper("confirm it within {0.09} % except", span(&steady).1);
+    c.upper("confirm it within {0.09} % except", h.finer_steady);
     let (argyris, fvs) = limits(d);
     c.range("limit {2.4}–{3.7} % higher", &[argyris, fvs]);
     c.upper(
