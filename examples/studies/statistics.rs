@@ -69,8 +69,9 @@
 //! ω ≥ 1/Δt, the start-up warning's quantity, `src/advice.rs`), part (of the plan)),
 //! `meshes.csv` (ω₁ and ω_max per mesh), `replica_check.csv`, `statistics_meta.csv` (the plan's
 //! settings, the command line and the commit of the code that ran: `+modified` after it when the
-//! work tree differed from it);
-//! then `examples/studies/statistics_plots.py` writes the work-precision plots and `statistics.md`.
+//! work tree differed from it); then `examples/studies/statistics_plots.py` writes the
+//! work-precision plots, the data of each beside it as a CSV, and the tables of `statistics.md`
+//! (its prose is hand-written; a directory without the page gets a copy of the committed one).
 //! `--quick` runs a small subset (about 10 s) in a temporary directory and exits nonzero unless
 //! the pipeline completes and, on the damped 35 Hz scene on the Argyris 2 × 1 mesh, the statistics
 //! have converged once ω_max·Δt < 1 and the mean |base force| has not at the paper's Δt (see
