@@ -15,7 +15,7 @@
 //! `--verify NAME` runs a case beside the clarabel reference (`solver.qp = clarabel`) until ten
 //! steps with a QP have been compared, and prints the largest difference of the constrained
 //! displacements and the largest bound violation. `--scale` runs the size sweep instead (both elements, 10 × 7 to 100 × 50, the backend `auto`
-//! picks), as the CSV that `examples/studies/scale_plots.py` reads; `--crossover` runs both backends on the
+//! picks), as the CSV that `plateimpact_tools.studies.scale_plots` reads; `--crossover` runs both backends on the
 //! meshes around `MODAL_AUTO_LIMIT`, where the choice between them is made. `--anatomy` times the
 //! parts of a sparse step (factor size with each ordering, one solve, one product, and the memory
 //! bandwidth that bounds a solve from below).

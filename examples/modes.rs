@@ -6,7 +6,7 @@
 //!
 //! prints the dof count and the six lowest natural frequencies, one per line as `mode <k>: <f> Hz`.
 //! `name=value` sets any other scene parameter by its FMU name (e.g. `plate.thickness=0.008`), so
-//! a caller such as `examples/studies/frequency_sweep.py` gets the frequencies of exactly the plate it runs.
+//! a caller such as `plateimpact_tools.studies.frequency_sweep` gets the frequencies of exactly the plate it runs.
 //!
 //! `--shapes FILE` also writes the six shapes as JSON (`examples/mode_shapes.py` plots them):
 //! `frequencies_hz`, the sampling grid `x` and `y` (m) and, per mode, `shapes[k][j][i]` = φ_k(x_i,

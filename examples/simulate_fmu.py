@@ -33,13 +33,11 @@ import numpy as np  # noqa: E402
 
 import mode_shapes  # noqa: E402
 import plate_animation  # noqa: E402
+from plateimpact_tools import DEFAULT_FMU, ROOT  # noqa: E402
+from plateimpact_tools.scene_values import scene as start_values  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
            "energy.kinetic", "energy.elastic", "energy.total", "contact.active_nodes", "contact.force"]
-# Scene fields that are settings of the Rust examples, not FMU variables.
-NOT_FMU = {"stop_time", "solver.qp", "solver.linear", "solver.impact_law"}
-ELEMENT = {"argyris": 1, "fvs": 2}
 # The animation: scene, start (s), forcing periods shown, internal steps per frame (0.6 ms at the
 # scene's Δt = 0.1 ms: an impact, about 1.8 ms long, spans three frames).
 ANIMATION = {"scene": "forced-35hz", "start": 0.4, "periods": 3, "every": 6}
@@ -57,23 +55,6 @@ def shown(path):
         return path.resolve().relative_to(pathlib.Path.cwd())
     except ValueError:
         return path
-
-
-def flatten(tree, prefix=""):
-    for key, value in tree.items():
-        name = f"{prefix}{key}"
-        if isinstance(value, dict):
-            yield from flatten(value, name + ".")
-        else:
-            yield name, value
-
-
-def start_values(scene_name):
-    """FMU start values of a scene file (all of its FMU parameters), and its stop time."""
-    scene = json.loads((ROOT / "scenes" / f"{scene_name}.json").read_text())
-    values = {k: v for k, v in flatten(scene) if k not in NOT_FMU}
-    values["mesh.element"] = ELEMENT[values["mesh.element"]]
-    return values, scene["stop_time"]
 
 
 def impacts(active):
@@ -195,7 +176,7 @@ def plot_modes(out_dir):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--fmu", default=str(ROOT / "target" / "fmu" / "PlateImpact.fmu"))
+    parser.add_argument("--fmu", default=str(DEFAULT_FMU))
     parser.add_argument("--out", default=str(ROOT / "out"))
     parser.add_argument("scenes", nargs="*",
                         default=["forced", "forced-35hz", "forced-35hz-damped", "energy"],

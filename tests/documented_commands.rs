@@ -1,7 +1,9 @@
 //! Every command the documentation shows still names something that exists: each path under
-//! `examples/`, `scripts/` or `benches/` in README.md, docs/**/*.md, examples/**/*.md and the
-//! scripts, each `--example NAME` (a Cargo example target) and each `--bench NAME` (a Cargo bench
-//! target). Files move (examples/ was sorted by role); this catches the reference left behind.
+//! `examples/`, `scripts/`, `benches/` or `tools/` in README.md, docs/**/*.md, examples/**/*.md and
+//! the scripts, each `--example NAME` (a Cargo example target), each `--bench NAME` (a Cargo bench
+//! target) and each module of the Python package (`plateimpact_tools.converge`, as in
+//! `python -m plateimpact_tools.converge`). Files move (examples/ was sorted by role, the Python
+//! tools moved into the package); this catches the reference left behind.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -42,12 +44,12 @@ fn path_char(c: char) -> bool {
     c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '/')
 }
 
-/// The paths under `examples/`, `scripts/` and `benches/` in `text`, each as written: relative to
+/// The paths under `examples/`, `scripts/`, `benches/` and `tools/` in `text`, each as written: relative to
 /// the repository root, or starting with `../` (a Markdown link, relative to the document). A
 /// trailing `.` (end of a sentence) is not part of the path.
 fn mentioned_paths(text: &str) -> Vec<String> {
     let mut found = Vec::new();
-    for prefix in ["examples/", "scripts/", "benches/"] {
+    for prefix in ["examples/", "scripts/", "benches/", "tools/"] {
         for (at, _) in text.match_indices(prefix) {
             let mut start = at;
             while text[..start].ends_with("../") {
@@ -63,6 +65,33 @@ fn mentioned_paths(text: &str) -> Vec<String> {
         }
     }
     found
+}
+
+/// The dotted module names of the Python package in `text` (`plateimpact_tools.converge.study`),
+/// a trailing `.` (end of a sentence) left out; `NAME` and `<…>` placeholders are not names.
+fn mentioned_modules(text: &str) -> Vec<String> {
+    let module_char = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '.');
+    text.match_indices("plateimpact_tools")
+        .filter(|(at, _)| !text[..*at].chars().next_back().is_some_and(path_char))
+        .map(|(at, _)| {
+            let end = text[at..]
+                .find(|c: char| !module_char(c))
+                .map_or(text.len(), |n| at + n);
+            text[at..end].trim_end_matches('.').to_string()
+        })
+        .filter(|name| {
+            !name
+                .split('.')
+                .any(|part| part == "NAME" || part.is_empty())
+        })
+        .collect()
+}
+
+/// Whether the package in `tools/` has the module `name`: a file `NAME.py` or a package
+/// directory `NAME/__init__.py`.
+fn module_exists(name: &str) -> bool {
+    let path = root().join("tools").join(name.replace('.', "/"));
+    path.with_extension("py").is_file() || path.join("__init__.py").is_file()
 }
 
 /// The names following `flag` (`--example`, `--bench`) in `text`.
@@ -121,6 +150,12 @@ fn documented_paths_and_targets_exist() {
                 broken.push(format!("{shown}: {path}"));
             }
         }
+        for module in mentioned_modules(&text) {
+            checked += 1;
+            if !module_exists(&module) {
+                broken.push(format!("{shown}: module {module}"));
+            }
+        }
         for (flag, kind, dir) in [
             ("--example", "example", "examples"),
             ("--bench", "bench", "benches"),
@@ -147,16 +182,29 @@ fn documented_paths_and_targets_exist() {
 #[test]
 fn the_scan_finds_what_a_command_names() {
     let text = "run `cargo run --release --example scene -- x` and \
-                .venv/bin/python examples/studies/damping.py, see [here](../examples/c/plate_host.c). \
-                Not target/fmu/examples/x; `cargo bench --bench solver`; scripts/main-job.";
+                .venv/bin/python examples/shaker_coupling.py, see [here](../examples/c/plate_host.c). \
+                Not target/fmu/examples/x; `cargo bench --bench solver`; scripts/main-job; \
+                `python -m plateimpact_tools.studies.damping` (tools/pyproject.toml), each \
+                `plateimpact_tools.studies.NAME`, not my_plateimpact_tools.x; plateimpact_tools.converge.";
     assert_eq!(
         mentioned_paths(text),
         [
-            "examples/studies/damping.py",
+            "examples/shaker_coupling.py",
             "../examples/c/plate_host.c",
-            "scripts/main-job"
+            "scripts/main-job",
+            "tools/pyproject.toml"
         ]
     );
+    assert_eq!(
+        mentioned_modules(text),
+        [
+            "plateimpact_tools.studies.damping",
+            "plateimpact_tools.converge"
+        ]
+    );
+    assert!(module_exists("plateimpact_tools.converge"));
+    assert!(module_exists("plateimpact_tools.converge.study"));
+    assert!(!module_exists("plateimpact_tools.converge.nothing"));
     assert_eq!(flag_values(text, "--example"), ["scene"]);
     assert_eq!(flag_values(text, "--bench"), ["solver"]);
     assert!(target_exists("example", "examples", "statistics"));

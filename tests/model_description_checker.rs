@@ -53,9 +53,9 @@ fn disagrees(xml3: &str, words: &[&str]) {
 #[test]
 fn the_shipped_descriptions_pass_agree_and_generate_the_tables() {
     let model = check(XML).unwrap();
-    assert_eq!(model.variables.len(), 45);
+    assert_eq!(model.variables.len(), 47);
     let model3 = check_fmi3(XML3).unwrap();
-    assert_eq!(model3.variables.len(), 49);
+    assert_eq!(model3.variables.len(), 51);
     check_same_variables(&model, &model3).unwrap();
     let code = generate(&model, &model3);
     assert!(code.contains("pub const PLATE_LENGTH: u32 = 1;"), "{code}");
@@ -63,6 +63,8 @@ fn the_shipped_descriptions_pass_agree_and_generate_the_tables() {
     assert!(code.contains("pub const PLATE_DISPLACEMENT: u32 = 70;"));
     assert!(code.contains("pub const BASE_MEAN_FORCE: u32 = 68;"));
     assert!(code.contains("pub const DAMPING_ALPHA: u32 = 22;"));
+    assert!(code.contains("pub const SOLVER_FREE_DOFS: u32 = 24;"));
+    assert!(code.contains("pub const SOLVER_BACKEND: u32 = 25;"));
     assert!(
         code.contains("pub const FMI2: Description")
             && code.contains("pub const FMI3: Description")

@@ -92,8 +92,9 @@ impl StudyDir {
         std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
     }
 
-    /// Runs `examples/studies/<script> DIR [--quick]` with the Python of `scripts/python-env`.
-    pub fn plot(&self, script: &str) -> Result<(), String> {
+    /// Runs `python -m plateimpact_tools.studies.<module> DIR [--quick]` (the package in `tools/`)
+    /// with the Python of `scripts/python-env`.
+    pub fn plot(&self, module: &str) -> Result<(), String> {
         let root = repository();
         let env = std::process::Command::new(root.join("scripts/python-env"))
             .output()
@@ -107,16 +108,17 @@ impl StudyDir {
         let python = String::from_utf8_lossy(&env.stdout).trim().to_string();
         let mut command = std::process::Command::new(python);
         command
-            .arg(root.join("examples/studies").join(script))
+            .arg("-m")
+            .arg(format!("plateimpact_tools.studies.{module}"))
             .arg(&self.path);
         if self.quick {
             command.arg("--quick");
         }
-        let status = command.status().map_err(|e| format!("{script}: {e}"))?;
+        let status = command.status().map_err(|e| format!("{module}: {e}"))?;
         if status.success() {
             Ok(())
         } else {
-            Err(format!("{script} exited with {status}"))
+            Err(format!("{module} exited with {status}"))
         }
     }
 

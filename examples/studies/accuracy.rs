@@ -6,8 +6,9 @@
 //!
 //! The study in three steps: the plan (`accuracy/plan.rs`: scenes, meshes, Δt levels and the
 //! cases they make, one per simulation), the run (`accuracy/run.rs`: the simulations and the CSVs
-//! of their results) and the write (`examples/studies/accuracy_plots.py`, run with the Python of
-//! `scripts/python-env`: the plots and the tables of `README.md`, whose prose is hand-written).
+//! of their results) and the write (`python -m plateimpact_tools.studies.accuracy_plots`, the
+//! package in `tools/` run with the Python of `scripts/python-env`: the plots and the tables of
+//! `README.md`, whose prose is hand-written).
 //!
 //! Every run happens in this process, one after the other (no threads, so that the wall times,
 //! measured with `Instant` around set-up and stepping, are not disturbed by each other). The output
@@ -67,7 +68,7 @@ fn study() -> Result<(), String> {
         &meta(&results, &args, &revision, dir.quick, total_s),
     )?;
     dir.page("accuracy", "README.md")?;
-    dir.plot("accuracy_plots.py")?;
+    dir.plot("accuracy_plots")?;
     let mut failures = order_check(&results);
     failures.extend(dir.missing(&[
         "runs.csv",

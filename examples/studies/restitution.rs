@@ -1,5 +1,5 @@
 //! What Newton's impact law does in a scene: the measurements behind docs/restitution/ (run by
-//! `examples/studies/restitution.py`), and the per-step cost of the law.
+//! `plateimpact_tools.studies.restitution`), and the per-step cost of the law.
 //!
 //! `cargo run --release --example restitution -- <scene> [key=value ...] [--csv FILE] [--every N]`
 //!

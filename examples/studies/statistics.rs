@@ -5,34 +5,35 @@
 //!
 //! `cargo run --release --example statistics [-- --quick | --reduced] [--out DIR]`
 //!
-//! The study in three steps: the plan (`statistics/plan.rs`: which runs, one entry per
-//! simulation), the run (`statistics/run.rs`: the simulations, each appended to the CSV as it
-//! ends) and the write (the study's Python script, which reads the CSVs and writes the tables
-//! and plots). The command line (`statistics/options.rs`) chooses and narrows the plan.
+//! The study in three steps: the plan (`statistics/plan.rs`: which runs, one entry per simulation),
+//! the run (`statistics/run.rs`: the simulations, each appended to the CSV as it ends) and the
+//! write (the study's module of `plateimpact_tools.studies` in `tools/`, run with the Python of
+//! `scripts/python-env`, which reads the CSVs and writes the tables and plots). The command line
+//! (`statistics/options.rs`) chooses and narrows the plan.
 //!
 //! `--study damping` runs the damping study instead ([`plan::damping_plan`]): the undamped
 //! forcings with each damping model of [`plan::damping_models`] (`--damping LABEL,LABEL` keeps
 //! those) on a grid of meshes and Δt, then the parts beyond the grid (`--part LABEL,LABEL` keeps
 //! those of `grid`, `contact-loss`, `finer-reference`, `threshold`), written to `damping.csv` (the
 //! columns of `statistics.csv` plus `damping` after `scene`), `damping_meshes.csv` and
-//! `damping_meta.csv`, then `examples/studies/damping_plots.py` writes the plots and the
+//! `damping_meta.csv`, then `plateimpact_tools.studies.damping_plots` writes the plots and the
 //! generated tables of `docs/accuracy/damping.md`. The other options below apply alike; with
 //! `--quick`, every model on Argyris 2 × 1 at Δt = 1e-4 and 1e-5 s on `forced-35hz` (about 2 s),
 //! in a temporary directory, checks the pipeline.
 //!
-//! A part of the study, to share it between processes (`--out` to separate directories; the
-//! CSVs are then concatenated and `examples/studies/statistics_plots.py DIR` run on the result): `--forcings
-//! damped` or `undamped` keeps those forced scenes only (or `--forcings LABEL,LABEL` the named
-//! ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the `energy` scene, the
-//! forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs those meshes only and
-//! `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them, whatever the
-//! damping model's smallest Δt), `--windows K` K ≥ 2
-//! windows instead of the plan's (a cheaper run of a periodic steady state). Trailing
-//! `name=value` arguments set scene parameters (the FMU variable names, [`Scene::set`]) of every
-//! run, after the study's own settings: `damping.stiffness_proportional=5.913e-5` or
-//! `damping.ratio=0.01 damping.frequency_low=53.8 damping.frequency_high=5000` with `--forcings
-//! undamped` (the `-damped` forcings add their α first, which the Rayleigh pair refuses); they are
-//! recorded in `statistics_meta.csv`. A partial study writes its CSVs but neither plots nor checks.
+//! A part of the study, to share it between processes (`--out` to separate directories; the CSVs
+//! are then concatenated and `python -m plateimpact_tools.studies.statistics_plots DIR` run on the
+//! result): `--forcings damped` or `undamped` keeps those forced scenes only (or `--forcings
+//! LABEL,LABEL` the named ones, e.g. `forced-35hz`), `--skip energy,forced,replicas` leaves out the
+//! `energy` scene, the forced runs or the replica check, `--mesh argyris:10x7[,fvs:14x10]` runs
+//! those meshes only and `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them,
+//! whatever the damping model's smallest Δt), `--windows K` K ≥ 2 windows instead of the plan's (a
+//! cheaper run of a periodic steady state). Trailing `name=value` arguments set scene parameters
+//! (the FMU variable names, [`Scene::set`]) of every run, after the study's own settings:
+//! `damping.stiffness_proportional=5.913e-5` or `damping.ratio=0.01 damping.frequency_low=53.8
+//! damping.frequency_high=5000` with `--forcings undamped` (the `-damped` forcings add their α
+//! first, which the Rayleigh pair refuses); they are recorded in `statistics_meta.csv`. A partial
+//! study writes its CSVs but neither plots nor checks.
 //!
 //! Scenes. `forced-35hz` (base sine of 9 mm at 35 Hz, obstacles at ±10 mm) and `forced-60hz` (2 mm at
 //! 60 Hz, inside the band 39–74 Hz where the frequency sweep of docs/sweep/ impacts), each undamped
@@ -69,7 +70,7 @@
 //! ω ≥ 1/Δt, the start-up warning's quantity, `src/advice.rs`), part (of the plan)),
 //! `meshes.csv` (ω₁ and ω_max per mesh), `replica_check.csv`, `statistics_meta.csv` (the plan's
 //! settings, the command line and the commit of the code that ran: `+modified` after it when the
-//! work tree differed from it); then `examples/studies/statistics_plots.py` writes the
+//! work tree differed from it); then `plateimpact_tools.studies.statistics_plots` writes the
 //! work-precision plots, the data of each beside it as a CSV, and the tables of `statistics.md`
 //! (its prose is hand-written; a directory without the page gets a copy of the committed one).
 //! `--quick` runs a small subset (about 10 s) in a temporary directory and exits nonzero unless
@@ -125,14 +126,14 @@ fn study() -> Result<(), String> {
     if options.partial() {
         eprintln!(
             "partial study done in {total_s:.1} s: concatenate its CSVs with the other parts', \
-             then run examples/studies/{} on them",
-            files.script()
+             then run `python -m plateimpact_tools.studies.{} DIR` on them",
+            files.module()
         );
         return Ok(());
     }
     eprintln!("runs done in {total_s:.1} s; writing tables and plots");
     dir.page("accuracy", files.page())?;
-    dir.plot(files.script())?;
+    dir.plot(files.module())?;
     let mut failures = if files.0 {
         Vec::new()
     } else {
@@ -160,12 +161,12 @@ impl Files {
         }
     }
 
-    /// The write step's script.
-    fn script(&self) -> &'static str {
+    /// The write step: its module of `plateimpact_tools.studies`.
+    fn module(&self) -> &'static str {
         if self.0 {
-            "damping_plots.py"
+            "damping_plots"
         } else {
-            "statistics_plots.py"
+            "statistics_plots"
         }
     }
 

@@ -1,9 +1,7 @@
 """Shared fixtures for the FMU tests: the packaged FMUs (FMI 2.0 and FMI 3.0) and thin drivers
 around fmpy's FMU2Slave and FMU3Slave."""
 
-import json
 import os
-import pathlib
 import subprocess
 
 import pytest
@@ -20,8 +18,9 @@ from fmpy.fmi3 import FMU3Slave
 from fmpy.logging import addLoggerProxy
 from ctypes import byref
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-SCENES = ROOT / "scenes"
+from plateimpact_tools import ROOT, SCENES  # noqa: F401 (the tests' names)
+# (start values, stop time) of a shipped scene: the tests' name for the package's reader.
+from plateimpact_tools.scene_values import scene as scene_start_values  # noqa: F401
 
 
 @pytest.fixture(scope="session")
@@ -62,23 +61,6 @@ def unzipdir(fmu_path, tmp_path_factory):
 @pytest.fixture(scope="session")
 def unzipdir3(fmu3_path, tmp_path_factory):
     return extract(fmu3_path, unzipdir=str(tmp_path_factory.mktemp("fmu3")))
-
-
-def scene_start_values(name):
-    """Start values for fmpy from a scene file of scenes/: the dotted paths are the variable names."""
-    scene = json.loads((SCENES / f"{name}.json").read_text())
-    values = {}
-    for group, fields in scene.items():
-        if not isinstance(fields, dict):
-            continue  # stop_time: the experiment's stop time, not a variable
-        for key, value in fields.items():
-            path = f"{group}.{key}"
-            if path in ("solver.qp", "solver.linear", "solver.impact_law"):
-                continue  # library settings, not FMU variables
-            if path == "mesh.element":
-                value = {"argyris": 1, "fvs": 2}[value]
-            values[path] = value
-    return values, scene["stop_time"]
 
 
 # fmpy's native logger proxy (it formats the variadic FMI 2.0 message) forwards every proxied

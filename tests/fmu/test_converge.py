@@ -1,4 +1,4 @@
-"""scripts/converge (examples/converge.py, docs/converge/README.md): on a damped scene it
+"""scripts/converge (plateimpact_tools.converge, docs/converge/README.md): on a damped scene it
 converges and its recommended value agrees with a finer reference run within the tolerance; on the
 undamped paper scene with a small budget it says "not converged" rather than a number; and against
 a separately started `dask scheduler` with `dask worker` processes it writes the runs the local
@@ -19,13 +19,12 @@ import subprocess
 import sys
 import time
 
-import numpy as np
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "examples"))
-import converge  # noqa: E402
+from plateimpact_tools import windows
+from plateimpact_tools.converge import cost
+from plateimpact_tools.converge import study as converge
 
 TOLERANCE = 0.01
 WINDOWS = ["--transient", "0.5", "--window", "0.2", "--windows", "4"]
@@ -81,7 +80,7 @@ def test_damped_scene_converges_to_a_finer_reference(fmu_path, local_study):
     result, _ = converge.run_setting(blob, hashlib.sha256(blob).hexdigest(), scene, h,
                                      round(0.5 / h), round(0.2 / h), 4)
     for q in QUANTITIES:
-        reference, _ = converge.value_and_spread(q, result["windows"][q])
+        reference, _ = windows.value_and_spread(q, result["windows"][q])
         assert abs(values[q] - reference) <= TOLERANCE * abs(reference), (q, values[q], reference)
 
 
@@ -197,77 +196,36 @@ def test_a_count_must_agree_over_one_more_level():
     assert study.span == 3
 
 
-def test_window_values_split_the_samples_and_the_counts():
-    """Two windows of 2 steps of 0.5 s: each holds the samples after its own steps, the impacts of
-    the steps ending in it, and the change of the cumulative losses across it."""
-    reals = np.zeros((5, len(converge.REALS)))
-    reals[:, 0] = [9.0, 3.0, -4.0, 1.0, 1.0]  # corner1: the first sample precedes the windows
-    reals[:, 1] = [0.0, 0.0, 5.0, 0.0, -2.0]  # corner2
-    reals[:, 2] = [7.0, 1.0, 3.0, 5.0, 5.0]  # energy.total
-    reals[:, 3] = [0.0, 1.0, 2.0, 4.0, 8.0]  # energy.damping_loss
-    reals[:, 4] = [1.0, 1.0, 1.0, 1.0, 3.0]  # energy.contact_loss
-    reals[:, 5] = [0.0, 3.0, 4.0, 0.0, 0.0]  # base.mean_force
-    impacts = np.array([5, 1, 0, 0, 2])
-    w = converge.window_values(reals, impacts, 1.0, 2)
-    assert w["mean_energy"] == [2.0, 5.0]
-    assert w["rms_corner"] == [np.sqrt(12.5), 1.0]
-    assert w["peak_corner"] == [5.0, 2.0]
-    assert w["rms_base_force"] == [np.sqrt(12.5), 0.0]
-    assert w["damping_loss_rate"] == [2.0, 6.0]
-    assert w["contact_loss_rate"] == [0.0, 2.0]
-    assert w["impact_rate"] == [1.0, 2.0]
-    # The peak: the largest window's, spread of the window peaks; the others: the mean, σ/√K.
-    assert converge.value_and_spread("peak_corner", [5.0, 2.0]) == (5.0, np.std([5, 2], ddof=1))
-    assert converge.value_and_spread("impact_rate", [1.0, 2.0]) == (
-        1.5, np.std([1, 2], ddof=1) / np.sqrt(2))
-
-
-def test_free_dofs_and_backend_follow_the_library():
-    """converge.free_dofs and converge.backend give every mesh of docs/scale/scale.csv the free
-    dofs and the backend the library reported for it (ProblemSize::of and backend_choice::resolve,
-    through `cargo bench --bench solver -- --scale`); a modal damping ratio makes any size modal."""
-    with open(ROOT / "docs" / "scale" / "scale.csv") as f:
-        rows = list(csv.DictReader(f))
-    assert {r["backend"] for r in rows} == {"Modal", "Sparse"}
-    for row in rows:
-        element, nx, ny = {"Argyris": 1, "Fvs": 2}[row["element"]], int(row["nx"]), int(row["ny"])
-        assert converge.free_dofs(element, nx, ny) == int(row["free_dofs"]), row["case"]
-        assert converge.backend({}, element, nx, ny) == row["backend"].lower(), row["case"]
-    # Argyris 20 × 10 is the last modal mesh of its row, 21 × 10 the first sparse one.
-    assert converge.free_dofs(1, 20, 10) == 1951 and converge.free_dofs(1, 21, 10) == 2048
-    assert converge.backend({}, 1, 21, 10) == "sparse"
-    assert converge.backend({"damping.modal_ratio": 0.01}, 1, 100, 50) == "modal"
-
-
-def test_the_estimate_follows_the_backend():
+def test_the_estimate_follows_the_backend(fmu_path):
     """From a run on Argyris 14 × 8 (modal), the estimate of 20 × 10 (1951 free dofs, modal) is
     the modal model's ratio, that of 21 × 10 (2048, just above the limit) the sparse model's over
     the modal one's: over 5 times what the modal model carried past the limit would say. With a
     modal damping ratio 21 × 10 stays modal and so does its estimate. Halving Δt on one mesh less
     than doubles it (set-up and communication steps stay). The windows of the documented
-    example: 1 s of transient and 8 of 0.2857 s, read every 1e-4 s."""
-    study = converge.Study("no.fmu", {}, ["mean_energy"], TOLERANCE, 120.0, transient=1.0,
+    example: 1 s of transient and 8 of 0.2857 s, read every 1e-4 s. The sizes and backends are
+    the FMU's (tests/fmu/test_calculated.py checks them)."""
+    study = converge.Study(fmu_path, {}, ["mean_energy"], TOLERANCE, 120.0, transient=1.0,
                            window=0.2857, windows=8, dt0=1e-4, mesh=True, replicas=1,
                            progress=False)
     study.results[(14, 8, 1e-4, 0)] = {"windows": {}, "warning": None, "cpu": 2.0}
     known = (14, 8, 1e-4)
     sim, h = study.simulated, study.h
+    assert study.size((20, 10, 1e-4)) == (1951, "modal")
+    assert study.size((21, 10, 1e-4)) == (2048, "sparse")
 
     def modal(nx, ny, dt):  # the modal model whatever the size
-        (setup, ps), (step, p) = converge.RUN_COST[(1, "modal")]
-        n = converge.free_dofs(1, nx, ny) / 1000
-        return (setup * n ** ps + 1e-6 * step * n ** p * sim / dt
-                + 1e-6 * converge.COMMUNICATION_STEP_US * sim / h)
+        return cost.run_cost((study.size((nx, ny, dt))[0], "modal"), 1, dt, sim, h)
 
     assert study.estimate(known, (20, 10, 1e-4)) == pytest.approx(
         2.0 * modal(20, 10, 1e-4) / modal(14, 8, 1e-4))
     above = study.estimate(known, (21, 10, 1e-4))
-    (_, _), (step, p) = converge.RUN_COST[(1, "sparse")]
-    sparse = 1e-6 * step * 2.048 ** p * sim / 1e-4 + 1e-6 * converge.COMMUNICATION_STEP_US * sim / h
+    (_, _), (step, p) = cost.RUN_COST[(1, "sparse")]
+    sparse = 1e-6 * step * 2.048 ** p * sim / 1e-4 + 1e-6 * cost.COMMUNICATION_STEP_US * sim / h
     assert above == pytest.approx(2.0 * sparse / modal(14, 8, 1e-4))
     assert above > 5 * 2.0 * modal(21, 10, 1e-4) / modal(14, 8, 1e-4)
     assert above > 5 * study.estimate(known, (20, 10, 1e-4))
     study.scene["damping.modal_ratio"] = 0.01
+    assert study.size((21, 10, 1e-4)) == (2048, "modal")
     assert study.estimate(known, (21, 10, 1e-4)) == pytest.approx(
         2.0 * modal(21, 10, 1e-4) / modal(14, 8, 1e-4))
     assert 1.0 < study.estimate(known, (14, 8, 5e-5)) / 2.0 < 2.0

@@ -1,13 +1,9 @@
-"""The Dask task runner shared by the frequency sweep and scripts/converge (examples/fmu_dask.py)."""
-
-import sys
+"""The Dask task runner shared by the frequency sweep and scripts/converge
+(plateimpact_tools.fmu_dask)."""
 
 import pytest
 
-from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "examples"))
-from fmu_dask import local_cluster, run_tasks  # noqa: E402
+from plateimpact_tools.fmu_dask import local_cluster, run_tasks
 
 
 def blob_length(blob, digest, offset):

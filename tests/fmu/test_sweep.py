@@ -1,23 +1,13 @@
-"""The frequency sweep (examples/studies/frequency_sweep.py): Dask gives the serial answer bit for bit, the
+"""The frequency sweep (plateimpact_tools.studies.frequency_sweep): Dask gives the serial answer bit for bit, the
 undamped linear plate resonates at the library's first natural frequency, and the continuation
 sweep drives a continuous base and finds the linear plate's unique steady state up and down."""
 
-import importlib.util
 import math
-import sys
 
 import pytest
 
-from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "examples"))  # its shared module fmu_dask
-from fmu_dask import local_cluster  # noqa: E402
-
-spec = importlib.util.spec_from_file_location("frequency_sweep",
-                                              ROOT / "examples" / "studies" / "frequency_sweep.py")
-frequency_sweep = importlib.util.module_from_spec(spec)
-sys.modules[spec.name] = frequency_sweep  # the name its tasks are pickled under
-spec.loader.exec_module(frequency_sweep)
+from plateimpact_tools.fmu_dask import local_cluster
+from plateimpact_tools.studies import frequency_sweep
 
 # A coarse mesh keeps every run a few hundredths of a second: Argyris 4 x 2 (103 free dofs) has
 # f1 = 53.89 Hz against 53.83 Hz on the paper's 10 x 7, so the same physics at a fraction of the cost.

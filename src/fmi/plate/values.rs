@@ -3,11 +3,13 @@
 //! [`Outputs`] fields and, for what happened over the last communication step, [`LastStep`]
 //! fields; the one input is the external base displacement.
 
+use crate::backend_choice;
+use crate::budget::ProblemSize;
 use crate::element::ElementKind;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
 use crate::fmi::variables::{vr, Causality, Variable, FMI2};
-use crate::scene::{Bound, Scene};
+use crate::scene::{Bound, LinearChoice, Scene};
 use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{bound_tolerance, Outputs};
 
@@ -58,17 +60,47 @@ fn field(s: &Scene, name: &str) -> Option<Value> {
 
 /// The value of a calculated parameter: the Rayleigh α (`damping.alpha`) or β (`damping.beta`)
 /// in use ([`Damping::rayleigh`](crate::scene::Damping::rayleigh)), refused while the damping
-/// settings are inconsistent (the error names the parameters at fault).
+/// settings are inconsistent (the error names the parameters at fault); the free dofs of the
+/// plate (`solver.free_dofs`, [`ProblemSize::of`], the count the set-up assembles) and the linear
+/// backend the set-up builds for them (`solver.backend`, [`backend_code`] of
+/// [`backend_choice::resolve`]). All follow from the parameters alone: none needs a set-up.
 pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
-    scene.damping.validate()?;
-    let (alpha, beta) = scene.damping.rayleigh();
+    let free_dofs = || ProblemSize::of(scene).free_dofs;
     match v.vr {
-        vr::DAMPING_ALPHA => Ok(Value::Real(alpha)),
-        vr::DAMPING_BETA => Ok(Value::Real(beta)),
+        vr::DAMPING_ALPHA | vr::DAMPING_BETA => {
+            scene.damping.validate()?;
+            let (alpha, beta) = scene.damping.rayleigh();
+            Ok(Value::Real(if v.vr == vr::DAMPING_ALPHA {
+                alpha
+            } else {
+                beta
+            }))
+        }
+        vr::SOLVER_FREE_DOFS => i32::try_from(free_dofs()).map(Value::Integer).map_err(|_| {
+            Failure::refused(format!(
+                "{} = {} exceeds the Integer range (internal error: the mesh bounds keep it below)",
+                v.name,
+                free_dofs()
+            ))
+        }),
+        vr::SOLVER_BACKEND => backend_code(backend_choice::resolve(scene, free_dofs()))
+            .map(Value::Integer)
+            .ok_or_else(|| Failure::refused(format!("{} is unresolved (internal error)", v.name))),
         _ => Err(Failure::refused(format!(
             "{} has no binding (internal error)",
             v.name
         ))),
+    }
+}
+
+/// The code `solver.backend` reports for a resolved linear backend (the description documents
+/// them): 1 = modal, 2 = sparse; `None` for `auto`, which [`backend_choice::resolve`] never
+/// returns.
+pub fn backend_code(choice: LinearChoice) -> Option<i32> {
+    match choice {
+        LinearChoice::Modal => Some(1),
+        LinearChoice::Sparse => Some(2),
+        LinearChoice::Auto => None,
     }
 }
 
@@ -278,6 +310,32 @@ mod tests {
             assert_eq!(parameter(&scene, v).unwrap(), expected, "{}", v.name);
         }
         assert_eq!(parameters, 25, "docs/fmu.md lists 25 parameters");
+    }
+
+    /// `solver.free_dofs` and `solver.backend` are what a set-up builds: on meshes of both
+    /// elements, modal and sparse (Argyris 21 × 10 has 2048 free dofs, just above the modal limit;
+    /// its sparse set-up is cheap), they equal the built stepper's dimension and backend.
+    #[test]
+    fn free_dofs_and_backend_are_those_of_the_set_up() {
+        use crate::scheme::Stepper;
+        let free = by_name("solver.free_dofs").unwrap();
+        let backend = by_name("solver.backend").unwrap();
+        for (element, nx, ny) in [
+            (ElementKind::Argyris, 2, 1),
+            (ElementKind::Argyris, 10, 7),
+            (ElementKind::Fvs, 5, 3),
+            (ElementKind::Argyris, 21, 10),
+        ] {
+            let mut scene = Scene::default();
+            (scene.mesh.element, scene.mesh.nx, scene.mesh.ny) = (element, nx, ny);
+            let stepper = Stepper::new(&scene, 0.0).unwrap();
+            let n = i32::try_from(stepper.free_dof_count()).unwrap();
+            assert_eq!(calculated(&scene, free).unwrap(), Value::Integer(n));
+            let code = backend_code(stepper.linear_backend()).unwrap();
+            assert_eq!(calculated(&scene, backend).unwrap(), Value::Integer(code));
+        }
+        assert_eq!(backend_code(LinearChoice::Modal), Some(1));
+        assert_eq!(backend_code(LinearChoice::Sparse), Some(2));
     }
 
     /// FMI 3.0 sizes plate.displacement by its structural parameters: their starts are the vertex

@@ -13,14 +13,14 @@ tests/fmu/test_reference.py.
 
 import argparse
 import pathlib
-import sys
 
 import numpy as np
 from fmpy import simulate_fmu
 
+from plateimpact_tools import ROOT, SCENES
+from plateimpact_tools.scene_values import scene as scene_start_values
+
 HERE = pathlib.Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-from conftest import ROOT, SCENES, scene_start_values  # noqa: E402
 
 STEP = 1e-3
 OUTPUTS = [

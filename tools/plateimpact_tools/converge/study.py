@@ -1,7 +1,8 @@
 """The cheapest converged settings for a user's scene: refines the time step Δt (and, with --mesh,
 the mesh of the chosen element) of the packaged PlateImpact FMU until the statistics asked for
 stop changing, with each run's spread estimated from windows; runs on Dask. The command line is
-`scripts/converge` (which runs this file with the project's Python environment):
+`scripts/converge` (which runs `python -m plateimpact_tools.converge` with the project's Python
+environment):
 
     scripts/converge --out DIR --quantity Q [--quantity Q ...] --tolerance REL --budget-seconds S
                      [--mesh] [--scheduler ADDRESS] [--scene FILE] [name=value ...]
@@ -66,7 +67,6 @@ progress on stderr; the last line of stdout `converged: ...` or `not converged: 
 """
 
 import argparse
-import json
 import math
 import pathlib
 import sys
@@ -75,25 +75,19 @@ import uuid
 
 import numpy as np
 
-from fmu_dask import DEFAULT_FMU, ELEMENT, dask_client, fmu_dir, parse_value, run_tasks
+from plateimpact_tools import DEFAULT_FMU
+from plateimpact_tools import scene_values
+from plateimpact_tools.converge.cost import plate_size, run_cost
+from plateimpact_tools.fmu_dask import dask_client, fmu_dir, run_tasks
+from plateimpact_tools.plotting import pyplot, save
+from plateimpact_tools.scene_values import ELEMENT, parse_value
+from plateimpact_tools.windows import QUANTITIES, REALS, value_and_spread, window_values
 
-# name -> (unit, one-line definition); see the module docs.
-QUANTITIES = {
-    "mean_energy": ("J", "time mean of energy.total"),
-    "rms_corner": ("m", "RMS of corner1.displacement u(Lx, 0)"),
-    "peak_corner": ("m", "max |u| over the free corners (Lx, 0), (Lx, Ly)"),
-    "rms_base_force": ("N", "RMS of base.mean_force"),
-    "damping_loss_rate": ("W", "energy.damping_loss gained per second"),
-    "contact_loss_rate": ("W", "energy.contact_loss gained per second"),
-    "impact_rate": ("1/s", "contact.impacts per second"),
-}
 # Counts: in a periodic response their window spread is 0, so two settings with the same count
 # pass, yet the count can still change further down the ladder (docs/accuracy/damping.md, β only
 # at 35 Hz: Argyris 14 × 10 counts 2, 2, 2.84 impacts per period at Δt = 1e-4, 1e-5, 1e-6 s).
 # They must agree over one more level: both pairs ending at the recommended setting pass.
 COUNTS = {"impact_rate"}
-REALS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.damping_loss",
-         "energy.contact_loss", "base.mean_force"]
 
 # The start of the warning the FMU logs at ExitInitializationMode (src/advice.rs) for settings
 # whose impact statistics may not converge; the study passes it on as its advice.
@@ -207,36 +201,6 @@ def run_setting(fmu_blob, digest, start_values, h, transient_steps, window_steps
             "warning": warning, "cpu": cpu}, cpu
 
 
-def window_values(reals, impacts, length, windows):
-    """Each quantity's value in each window: `reals` holds REALS at the first window's start and
-    after each step, `impacts` the impacts of the step ending at each sample, `length` (s) is one
-    window's duration."""
-    c1, c2, energy, damping, contact, force = reals.T
-    steps = (len(reals) - 1) // windows
-    out = {q: [] for q in QUANTITIES}
-    for i in range(windows):
-        a, b = i * steps, (i + 1) * steps  # the samples after the window's steps: a+1 … b
-        inside = slice(a + 1, b + 1)
-        out["mean_energy"].append(float(np.mean(energy[inside])))
-        out["rms_corner"].append(float(np.sqrt(np.mean(c1[inside] ** 2))))
-        out["peak_corner"].append(float(max(np.abs(c1[inside]).max(), np.abs(c2[inside]).max())))
-        out["rms_base_force"].append(float(np.sqrt(np.mean(force[inside] ** 2))))
-        out["damping_loss_rate"].append(float(damping[b] - damping[a]) / length)
-        out["contact_loss_rate"].append(float(contact[b] - contact[a]) / length)
-        out["impact_rate"].append(float(impacts[inside].sum()) / length)
-    return out
-
-
-def value_and_spread(quantity, values):
-    """A run's value and spread from its window values (module docs)."""
-    values = np.asarray(values, dtype=float)
-    k = len(values)
-    spread = float(np.std(values, ddof=1)) if k > 1 else math.nan
-    if quantity == "peak_corner":
-        return float(values.max()), spread
-    return float(values.mean()), spread / math.sqrt(k)
-
-
 # ----------------------------------------------------------------------------------------------
 # The study (client side)
 
@@ -253,60 +217,6 @@ def observed_order(values):
 
 def refine_mesh(nx, ny):
     return math.ceil(MESH_FACTOR * nx), math.ceil(MESH_FACTOR * ny)
-
-
-# The FMU's linear backend (src/backend_choice.rs, `resolve`): the FMU has no solver.linear, so
-# `auto` decides: the dense modal backend up to this many free dofs, the sparse one above, and the
-# modal one at every size when damping.modal_ratio > 0 (modal damping needs the eigenbasis).
-MODAL_AUTO_LIMIT = 2000
-# The cost model of a run (`run_cost`), per (mesh.element, backend): its set-up, (s, p), and its
-# internal step, (µs, p), each c·(n/1000)^p in the free dofs n; plus a communication step with the
-# study's reads. Measured through the FMU on the preset forced-35hz-damped at Δt = h = 1e-4 s
-# (examples/converge_step_cost.py; a 2-core development machine, load average about 2): per
-# internal step 6.6 → 35 µs from Argyris 10 × 7 to 20 × 10 (708 → 1951 free dofs, modal), 1655 µs
-# on 21 × 12 (2428, sparse), 3224 on 30 × 15 and 6002 on 40 × 20; FVS 12 → 70 µs from 14 × 10 to
-# 30 × 15 (462 → 1440, modal), 1360 on 40 × 20 (2520, sparse) and 3224 on 60 × 30. The modal set-up
-# (the eigen-decomposition) grows like n^2.7 and takes 4.9 s at 1951 free dofs; the sparse one is
-# small against its steps and left out. Only ratios of the model enter the estimate
-# (`Study.estimate`), so a slower machine scales both sides.
-RUN_COST = {
-    (1, "modal"): ((0.738, 2.74), (11.6, 1.64)),
-    (1, "sparse"): ((0.0, 0.0), (605.0, 1.14)),
-    (2, "modal"): ((1.13, 2.22), (37.2, 1.62)),
-    (2, "sparse"): ((0.0, 0.0), (499.0, 1.09)),
-}
-COMMUNICATION_STEP_US = 9.23  # doStep and the reads through fmpy, on Argyris 2 × 1
-
-
-def free_dofs(element, nx, ny):
-    """The free dofs of an nx × ny mesh, counted as src/budget.rs (`ProblemSize::of`) does:
-    Argyris 6 per vertex and 1 per edge (diagonals included), the clamped edge x = 0 holding 5 per
-    vertex and its edges' one each; FVS 3 per vertex, the clamped column's all held."""
-    vertices = (nx + 1) * (ny + 1)
-    if element == 1:
-        edges = nx * (ny + 1) + (nx + 1) * ny + nx * ny
-        return 6 * vertices + edges - (5 * (ny + 1) + ny)
-    if element == 2:
-        return 3 * vertices - 3 * (ny + 1)
-    raise ValueError(f"mesh.element {element}: 1 (Argyris) or 2 (FVS)")
-
-
-def backend(scene, element, nx, ny):
-    """The linear backend the FMU picks for the start values `scene` on an nx × ny mesh of
-    `element`: "modal" or "sparse" (src/backend_choice.rs)."""
-    if float(scene.get("damping.modal_ratio", 0.0)) > 0:
-        return "modal"
-    return "modal" if free_dofs(element, nx, ny) <= MODAL_AUTO_LIMIT else "sparse"
-
-
-def run_cost(scene, element, nx, ny, dt, simulated, h):
-    """The model's CPU seconds (RUN_COST) of a run of `simulated` seconds at Δt = `dt` on an
-    nx × ny mesh of `element`, outputs read every `h`: the set-up, simulated/Δt internal steps and
-    simulated/h communication steps, on the backend the FMU picks (`backend`)."""
-    (setup, p_setup), (step, p_step) = RUN_COST[(element, backend(scene, element, nx, ny))]
-    n = free_dofs(element, nx, ny) / 1000
-    return (setup * n ** p_setup + 1e-6 * step * n ** p_step * simulated / dt
-            + 1e-6 * COMMUNICATION_STEP_US * simulated / h)
 
 
 class Study:
@@ -381,20 +291,24 @@ class Study:
     def cost(self, setting):
         return self.results[setting + (0,)]["cpu"]
 
+    def size(self, setting):
+        """(free dofs, backend) of a setting's plate, as the FMU reports them (`cost.plate_size`)."""
+        nx, ny, _ = setting
+        return plate_size(self.fmu, dict(self.scene, **{"mesh.nx": nx, "mesh.ny": ny}))
+
     def estimate(self, known, setting):
         """CPU seconds of `setting` from those of the run setting `known`: its cost times the
-        ratio of the two settings' model costs (`run_cost`), each on the backend the FMU picks for
-        its mesh (`backend`: modal up to 2000 free dofs, sparse above). Within the modal backend
-        a step grows like n^1.6 and the set-up like n^2.2–2.7; across the switch an internal step
-        costs some 50 to 100 times more (Argyris 20 × 10, 1951 free dofs, modal: 35 µs; 21 × 12,
-        2428, sparse: 1655 µs). Halving Δt doubles the internal steps but not the set-up nor the
-        communication steps (h is fixed). On small meshes fmpy's cost per output dominates, which
-        the model's communication step does not fully hold (docs/converge example: Argyris
-        4 × 2 → 9 × 5, 5.6× the cells, 2.1× the CPU), so there the estimate errs towards stopping
-        early."""
+        ratio of the two settings' model costs (`cost.run_cost`), each on the free dofs and the
+        backend the FMU reports for its mesh (`size`). Within the modal backend a step grows like
+        n^1.6 and the set-up like n^2.2–2.7; across the switch an internal step costs some 50 to 100
+        times more (Argyris 20 × 10, 1951 free dofs, modal: 35 µs; 21 × 12, 2428, sparse:
+        1655 µs). Halving Δt doubles the internal steps but not the set-up nor the communication
+        steps (h is fixed). On small meshes fmpy's cost per output dominates, which the model's
+        communication step does not fully hold (docs/converge example: Argyris 4 × 2 → 9 × 5, 5.6×
+        the cells, 2.1× the CPU), so there the estimate errs towards stopping early."""
         e, simulated, h = self.element, self.simulated, self.h
-        return self.cost(known) * (run_cost(self.scene, e, *setting, simulated, h)
-                                   / run_cost(self.scene, e, *known, simulated, h))
+        return self.cost(known) * (run_cost(self.size(setting), e, setting[2], simulated, h)
+                                   / run_cost(self.size(known), e, known[2], simulated, h))
 
     # -- decisions
 
@@ -650,9 +564,7 @@ class Study:
         """Work-precision: each run setting's relative difference from the reference (the
         recommended setting, or else the last one run), with 2σ error bars, against its CPU seconds
         per simulated second; the settings of each ladder joined in ladder order."""
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
 
         fig, ax = plt.subplots(figsize=(7.5, 5))
         colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -687,36 +599,17 @@ class Study:
                      f"(tolerance {self.tolerance:g})", fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        save(fig, path)
 
 
 # ----------------------------------------------------------------------------------------------
 # Command line
 
 def load_scene(path):
-    """Start values from a JSON or TOML file, flat or grouped (module docs). scenes/*.json also
-    hold the library's own settings and the stop time, which are no FMU variables: skipped."""
-    text = pathlib.Path(path).read_text()
-    if str(path).endswith(".toml"):
-        import tomllib
-        data = tomllib.loads(text)
-    else:
-        data = json.loads(text)
-    flat = {}
-
-    def walk(prefix, node):
-        for key, value in node.items():
-            name = f"{prefix}{key}"
-            if isinstance(value, dict):
-                walk(name + ".", value)
-            else:
-                flat[name] = value
-    walk("", data)
-    for name in ("stop_time", "solver.qp", "solver.linear", "solver.impact_law"):
-        flat.pop(name, None)
-    return flat
+    """Start values from a JSON or TOML file, flat or grouped (module docs; `scene_values.read`).
+    scenes/*.json also hold the library's own settings and the stop time, which are no FMU
+    variables: skipped."""
+    return scene_values.read(path)[0]
 
 
 def main(argv=None):

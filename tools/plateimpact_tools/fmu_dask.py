@@ -1,10 +1,11 @@
 """Running the packaged PlateImpact FMU as Dask tasks: shared by the frequency sweep
-(examples/studies/frequency_sweep.py) and the convergence study (examples/converge.py, scripts/converge).
+(`plateimpact_tools.studies.frequency_sweep`) and the convergence study (`plateimpact_tools.converge`,
+scripts/converge).
 
 A task is a function called as function(fmu_blob, digest, *args) on a worker, returning
 (result, seconds). The FMU's bytes are scattered to the workers once (`run_tasks`) and unpacked
-once per machine (`fmu_dir`), so workers on other machines need nothing but fmpy and this file,
-which `run_tasks` uploads to them with the modules of the task functions.
+once per machine (`fmu_dir`), so workers on other machines need nothing but fmpy, numpy and this
+package, which `run_tasks` uploads to them (`ship_package`).
 """
 
 import contextlib
@@ -18,11 +19,8 @@ import tempfile
 import time
 import zipfile
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-DEFAULT_FMU = ROOT / "target" / "fmu" / "PlateImpact.fmu"
-ELEMENT = {"argyris": 1, "fvs": 2}
-
 _EXTRACTED = {}
+_SHIPPED = set()  # the ids of the clients whose workers have the package (`ship_package`)
 
 
 def fmu_dir(fmu_blob, digest):
@@ -64,7 +62,7 @@ def run_tasks(fmu_path, tasks, client, describe=None):
             report(key, *function(fmu_blob, digest, *args))
     else:
         from distributed import as_completed
-        ship_modules(client, [function for _, function, _ in tasks])
+        ship_package(client)
         # A unique key per call: under the default key, a hash of the content, every call
         # scatters the same FMU under the same key, and the release of the previous call's future
         # can reach the scheduler after the new scatter and drop the data under the new tasks
@@ -79,19 +77,21 @@ def run_tasks(fmu_path, tasks, client, describe=None):
     return done
 
 
-def ship_modules(client, functions):
-    """Lets workers, local or remote, run the tasks' functions. A function of a script run as
-    __main__ is pickled by value, one of an imported module by reference to the module, which the
-    workers then need; either may call into this module, pickled by reference too. upload_file
-    sends each such file to every worker (and to the scheduler, which runs in this process on a
-    LocalCluster); load=True would reload it in this process too."""
-    files = {__file__}
-    for function in functions:
-        module = sys.modules[function.__module__]
-        if module.__name__ != "__main__":
-            files.add(module.__file__)
-    for path in sorted(files, key=lambda p: p != __file__):  # this module first: others import it
-        client.upload_file(path, load=False)
+def ship_package(client):
+    """Lets the workers of `client` import this package, wherever they run. A local cluster's
+    workers are processes of this Python, which has the package installed: nothing to do. Else
+    the package's modules go to the scheduler and every worker as one zip (Dask's upload_file puts
+    it first on their sys.path and imports it), so a remote worker needs only fmpy and numpy."""
+    if getattr(client, "cluster", None) is not None or client.id in _SHIPPED:
+        return  # a cluster this client started (a LocalCluster of this environment), or done
+    package = pathlib.Path(__file__).resolve().parent
+    with tempfile.TemporaryDirectory(prefix="plateimpact-tools-") as tmp:
+        archive = pathlib.Path(tmp) / "plateimpact_tools.zip"
+        with zipfile.ZipFile(archive, "w") as z:
+            for path in sorted(package.rglob("*.py")):
+                z.write(path, path.relative_to(package.parent).as_posix())
+        client.upload_file(str(archive), load=True)
+    _SHIPPED.add(client.id)
 
 
 def local_cluster(workers):
@@ -122,19 +122,3 @@ def dask_client(scheduler=None, workers=None, serial=False):
     with local_cluster(workers or os.cpu_count()) as cluster, Client(cluster) as client:
         yield client
 
-
-def parse_value(name, text, variables):
-    """The start value `text` of the FMU variable `name` as its type wants it (`variables`: name
-    -> fmpy ScalarVariable); `mesh.element` also takes the element's name."""
-    kind = variables[name].type if name in variables else None
-    if kind is None:
-        raise SystemExit(f"{name} is not a variable of the FMU")
-    if kind == "Boolean":
-        if str(text).lower() not in ("true", "false", "1", "0"):
-            raise SystemExit(f"{name} is Boolean: true or false, not {text}")
-        return str(text).lower() in ("true", "1")
-    if kind == "Enumeration" or name == "mesh.element":
-        return ELEMENT[text] if text in ELEMENT else int(text)
-    if kind == "Integer":
-        return int(text)
-    return float(text)

@@ -1,7 +1,7 @@
 """The write step of the work-precision study: plots and the tables of README.md, from the CSVs of
 `examples/studies/accuracy.rs`.
 
-Usage: accuracy_plots.py DIR [--quick] [--tables-only]. Reads
+Usage: python -m plateimpact_tools.studies.accuracy_plots DIR [--quick] [--tables-only]. Reads
 DIR/runs.csv, frequencies.csv, table1.csv, paper_table1.csv, traces.csv, reference_check.csv,
 meta.csv; writes DIR/*.png, beside each the CSV of the data it shows (traces.png shows
 traces.csv), and the generated tables of DIR/README.md (the page is hand-written; `pages.fill`).
@@ -14,14 +14,12 @@ import sys
 from collections import defaultdict
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from plateimpact_tools.plotting import pyplot, save
+from plateimpact_tools.studies import pages
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import pages  # noqa: E402
+plt = pyplot()
 
 # The source the generated blocks name.
 MODULE = "the accuracy study's write step"
@@ -160,9 +158,7 @@ def traces_plot(study, out):
     ax.set_title(f"Reference corner displacement ({study.meta['reference']})", fontsize=10)
     ax.text(1, -9.5, "obstacles at ±10 mm (forced-35hz); energy has the lower one only", fontsize=7)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "traces.png", dpi=110)
-    plt.close(fig)
+    save(fig, out / "traces.png", dpi=110)
 
 
 def front(points):
@@ -226,9 +222,7 @@ def work_precision_plot(study, out):
         ax.axis("off")
     fig.suptitle("Work-precision: solid = fixed Δt, mesh refined; dashed = fixed mesh, Δt refined",
                  fontsize=11)
-    fig.tight_layout()
-    fig.savefig(out / "work_precision.png", dpi=110)
-    plt.close(fig)
+    save(fig, out / "work_precision.png", dpi=110)
     pages.figure_data(out / "work_precision.png", ["scene", "element", "nx", "ny", "dt",
                                                    "strategy", "wall_s", "ref_rms", "on_front"],
                       data)
@@ -252,9 +246,7 @@ def convergence_dt_plot(study, out, dt_orders):
         ax.set_xlabel("Δt (s)")
         ax.set_ylabel("RMS corner error vs same mesh, finest Δt (m)")
         ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "convergence_dt.png", dpi=110)
-    plt.close(fig)
+    save(fig, out / "convergence_dt.png", dpi=110)
     pages.figure_data(out / "convergence_dt.png", ["scene", "element", "nx", "ny", "dt",
                                                    "dt_rms"], data)
 
@@ -279,9 +271,7 @@ def convergence_h_plot(study, out, h_orders):
     axes[1].set_ylabel("|f / f_ref − 1|, modes 1–6 (labelled)")
     axes[1].set_title("natural frequencies vs docs/elements.md §7", fontsize=9)
     axes[1].legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "convergence_h.png", dpi=110)
-    plt.close(fig)
+    save(fig, out / "convergence_h.png", dpi=110)
     pages.figure_data(out / "convergence_h.png", ["panel", "scene", "element", "mode", "h",
                                                   "error"], data)
 

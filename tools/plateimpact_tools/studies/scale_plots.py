@@ -8,7 +8,7 @@ are combined by taking, per mesh, the smallest of each timing (and the median of
 peak). Usage:
 
     cargo bench --bench solver -- --scale > run1.csv   (repeat: run2.csv, ...)
-    .venv/bin/python examples/studies/scale_plots.py run1.csv run2.csv ... [--out docs/scale]
+    .venv/bin/python -m plateimpact_tools.studies.scale_plots run1.csv run2.csv ... [--out docs/scale]
 
 writes docs/scale/scale.csv (the combined runs) and docs/scale/scale.png, and prints the table and
 the exponents of the fits  cost = c * n^p  over the meshes each backend runs (n = free dofs).
@@ -19,11 +19,12 @@ import csv
 import pathlib
 import statistics
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from plateimpact_tools import ROOT
+from plateimpact_tools.plotting import pyplot, save
+
+plt = pyplot()
 
 TIMINGS = ["assembly_s", "setup_s", "us_per_step", "free_us", "qp_us"]
 MEMORY = ["peak_setup_mib", "peak_end_mib"]
@@ -71,7 +72,7 @@ def fit(points):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", nargs="+", help="CSV output of `cargo bench --bench solver -- --scale`")
-    parser.add_argument("--out", default=str(pathlib.Path(__file__).resolve().parents[2] / "docs" / "scale"))
+    parser.add_argument("--out", default=str(ROOT / "docs" / "scale"))
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     rows = sorted((combine(r) for r in read_runs(args.runs).values()),
@@ -147,8 +148,7 @@ def main():
     axes[2].legend(fontsize=8)
     figure.suptitle("forced-35hz, Δt = 1e-4 s, 500 steps, meshes 10 × 7 to 100 × 50 "
                     "(squares: modal backend, circles: sparse)")
-    figure.tight_layout()
-    figure.savefig(out / "scale.png", dpi=110)
+    save(figure, out / "scale.png")
 
 
 if __name__ == "__main__":

@@ -7,11 +7,11 @@ sweeps the frequencies up and then back down, carrying the plate's state from ea
 the next, so that coexisting responses (jumps, hysteresis) show as two branches. Both write a CSV
 and a plot with the library's natural frequencies marked.
 
-    python examples/studies/frequency_sweep.py [--frequencies 5:120:1] [--workers N | --scheduler ADDR | --serial]
-                                       [--set name=value ...] [--param name=v1,v2,... ...]
-                                       [--zeta1 Z] [--stop-time 1.0] [--out out/sweep]
-    python examples/studies/frequency_sweep.py --continuation [--frequencies 30:90:1] [--zeta1 0.01]
-                                       [--settle 1.5] [--measure 1.0] [...]
+    python -m plateimpact_tools.studies.frequency_sweep [--frequencies 5:120:1]
+        [--workers N | --scheduler ADDR | --serial] [--set name=value ...]
+        [--param name=v1,v2,... ...] [--zeta1 Z] [--stop-time 1.0] [--out out/sweep]
+    python -m plateimpact_tools.studies.frequency_sweep --continuation [--frequencies 30:90:1]
+        [--zeta1 0.01] [--settle 1.5] [--measure 1.0] [...]
 
 Runs from rest (columns of sweep.csv; times are communication points, one per internal step Δt):
   peak_corner_m     max |u| over both free corners (Lx, 0), (Lx, Ly) in the analysis window, the
@@ -50,8 +50,12 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # examples/: the shared fmu_dask
-from fmu_dask import DEFAULT_FMU, ELEMENT, ROOT, dask_client, fmu_dir, parse_value, run_tasks  # noqa: E402
+from plateimpact_tools import DEFAULT_FMU, ROOT
+from plateimpact_tools.fmu_dask import dask_client, fmu_dir, run_tasks
+from plateimpact_tools.plotting import pyplot, save
+from plateimpact_tools.scene_values import ELEMENT, parse_value
+from plateimpact_tools.windows import last_whole_periods, period_blocks, rms, standard_error
+
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.contact_loss",
            "contact.active_nodes", "contact.impacts"]
 CONFIGS = {  # name -> start values that define it
@@ -84,13 +88,8 @@ def run_one(fmu_blob, digest, start_values, stop_time):
                          np.abs(result["corner2.displacement"]))
     active = result["contact.active_nodes"]
     energy = result["energy.total"]
-    frequency = float(start_values["base.frequency"])
-    periods = int(np.floor(frequency * stop_time / 2.0 + 1e-9))
+    first, periods = last_whole_periods(float(start_values["base.frequency"]), stop_time, step)
     n_last = len(t) - 1
-    if periods > 0:
-        first = int(round((stop_time - periods / frequency) / step))
-    else:  # not one whole period in the last half: the window is the last half, no per-period terms
-        first = int(round(0.5 * stop_time / step))
     window = slice(first, n_last + 1)
     digest_out = hashlib.sha256()
     for name in ["time"] + OUTPUTS:
@@ -259,17 +258,14 @@ def dwell_summary(direction, frequency, periods, record, counts, periods_per_ste
     energy, loss = record[:, 2], record[:, 3]
     corner1, corner2, _, _, force = record[1:].T
     impacts, active = counts[1:].T
-    # Block k holds periods [round(kP/B), round((k+1)P/B)), to the nearest step.
-    edges = [min(len(corner1), round(round(k * periods / RMS_BLOCKS) / periods_per_step))
-             for k in range(RMS_BLOCKS + 1)]
-    blocks = [np.sqrt(np.mean(corner1[a:b] ** 2)) for a, b in zip(edges, edges[1:]) if b > a]
-    spread = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
+    blocks = [rms(corner1[a:b])
+              for a, b in period_blocks(periods, RMS_BLOCKS, periods_per_step, len(corner1))]
     return {
         "direction": direction,
         "base.frequency": frequency,
         "periods": periods,
-        "rms_corner_m": float(np.sqrt(np.mean(corner1 ** 2))),
-        "rms_corner_spread_m": spread,
+        "rms_corner_m": rms(corner1),
+        "rms_corner_spread_m": standard_error(blocks),
         "peak_corner_m": float(np.max(np.maximum(np.abs(corner1), np.abs(corner2)))),
         "impacts_per_period": float(impacts.sum()) / periods,
         "dissipated_per_period_J": float(loss[-1] - loss[0]) / periods,
@@ -427,9 +423,7 @@ def hysteresis(rows):
 
 def plot_continuation(rows, modes_by_params, path, title):
     """RMS and peak corner, impacts and dissipation per period against frequency, up and down."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, axes = plt.subplots(4, 1, figsize=(9, 11), sharex=True,
                              gridspec_kw={"height_ratios": [3, 2, 2, 2]})
@@ -470,15 +464,11 @@ def plot_continuation(rows, modes_by_params, path, title):
                       f"{BRANCH_TOLERANCE:.0%} and {BRANCH_SIGMAS:g}σ, or only one impacts)",
                       fontsize=9)
     axes[-1].set_xlabel("base frequency (Hz)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
 
 
 def plot(rows, modes_by_params, path, title):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True,
                                    gridspec_kw={"height_ratios": [3, 2]})
@@ -514,9 +504,7 @@ def plot(rows, modes_by_params, path, title):
     ax2.set_ylabel("energy dissipated per period (J)")
     ax2.set_xlabel("base frequency (Hz)")
     ax2.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
 
 
 # ----------------------------------------------------------------------------------------------

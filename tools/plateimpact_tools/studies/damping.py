@@ -9,7 +9,7 @@ writes
                                with the envelope exp(-zeta_1 omega_1 t) of the first mode
 
 and prints the damping ratio measured from the corner's peaks (log decrement over successive peaks).
-Usage: .venv/bin/python examples/studies/damping.py [--out docs/damping]
+Usage: .venv/bin/python -m plateimpact_tools.studies.damping [--out docs/damping]
 """
 
 import argparse
@@ -19,13 +19,13 @@ import re
 import subprocess
 import tempfile
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from plateimpact_tools import ROOT
+from plateimpact_tools.plotting import pyplot, save
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+plt = pyplot()
+
 ZETA = 0.02
 STOP = 0.3  # s: about 16 periods of the first mode
 
@@ -89,8 +89,7 @@ def main():
     ax2.set_xlabel("t (s)")
     ax2.set_ylabel("discrete energy (J)")
     ax2.legend(loc="upper right", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "release.png", dpi=120)
+    save(fig, out / "release.png", dpi=120)
     print(f"wrote {out / 'release.png'}")
 
 

@@ -1,7 +1,7 @@
 """The write step of the statistics study: plots and the tables of statistics.md, from the CSVs of
 `examples/studies/statistics.rs`.
 
-Usage: statistics_plots.py DIR [--quick] [--tables-only]. Reads
+Usage: python -m plateimpact_tools.studies.statistics_plots DIR [--quick] [--tables-only]. Reads
 DIR/statistics.csv, meshes.csv, replica_check.csv, statistics_meta.csv; writes DIR/statistics_*.png,
 beside each the CSV of the data it shows, and the generated tables of DIR/statistics.md (the page
 is hand-written; `pages.fill`). Run by `cargo run --release --example statistics`.
@@ -22,13 +22,10 @@ import math
 import sys
 from pathlib import Path
 
-import matplotlib
+from plateimpact_tools.plotting import pyplot, save
+from plateimpact_tools.studies import pages
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import pages  # noqa: E402
+plt = pyplot()
 
 # The source the generated blocks name.
 MODULE = "the statistics study's write step"
@@ -221,9 +218,7 @@ def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title
         ax.axis("off")
     fig.suptitle(title + " (bars: 2σ of the difference; labels: Δt of the first and last run "
                  "of each mesh)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out / name, dpi=dpi)
-    plt.close(fig)
+    save(fig, out / name, dpi=dpi)
     pages.figure_data(out / name, ["scene", "quantity", "element", "nx", "ny", "dt", "wall_s",
                                    "relative_error", "uncertainty_2sigma"], data)
 
@@ -261,9 +256,7 @@ def against_omega_dt(study, out, grid, name):
             if i == nrows - 1:
                 ax.set_xlabel("ω_max·Δt (resolved right of the dotted line)", fontsize=8)
     axes[0][0].legend(fontsize=6, ncol=2)
-    fig.tight_layout()
-    fig.savefig(out / name, dpi=90)
-    plt.close(fig)
+    save(fig, out / name, dpi=90)
     pages.figure_data(out / name, ["scene", "quantity", "element", "nx", "ny", "dt",
                                    "omega_max_dt", "value", "spread"], data)
 

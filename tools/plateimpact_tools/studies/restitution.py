@@ -10,7 +10,7 @@ Runs the `energy` scene (fixed base, preload released above the lower obstacle g
                                       contacts turn, against dt (e = 0.5 and 1)
 
 and prints the numbers of the tables in docs/restitution/README.md. Usage:
-.venv/bin/python examples/studies/restitution.py [--out docs/restitution]   (about a minute)
+.venv/bin/python -m plateimpact_tools.studies.restitution [--out docs/restitution]   (about a minute)
 """
 
 import argparse
@@ -19,13 +19,13 @@ import pathlib
 import subprocess
 import tempfile
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from plateimpact_tools import ROOT
+from plateimpact_tools.plotting import finish_axes, pyplot, save
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+plt = pyplot()
+
 RESTITUTIONS = [0.0, 0.25, 0.5, 0.75, 0.9, 1.0]
 TIME_STEPS = [1e-4, 5e-5, 2.5e-5, 1e-5]
 CORNER_WINDOW = 0.15  # s: the first impacts
@@ -52,20 +52,6 @@ def run(workdir, restitution, time_step=1e-4, law="auto", csv=True):
         return summary, None
     data = np.genfromtxt(path, delimiter=",", names=True)
     return summary, {name: data[name] for name in data.dtype.names}
-
-
-def finish_axes(ax, xlabel, ylabel, title, columns=1, **grid):
-    """Labels, title, grid and legend (in `columns` columns) of one plot."""
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.grid(alpha=0.3, **grid)
-    ax.legend(fontsize=8, ncol=columns)
-
-
-def save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
 
 
 def main():
@@ -109,7 +95,7 @@ def main():
     bars.set_xticks(x, [f"{e}" for e in shown])
     bars.set_yscale("log")
     finish_axes(bars, "restitution e", "E at 1 s / E at the first step", "energy kept over 1 s", axis="y")
-    save(fig, out / "energy.png")
+    save(fig, out / "energy.png", dpi=130)
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for e, colour in [(0.0, colours[0]), (0.5, colours[2]), (1.0, colours[-1])]:
@@ -119,7 +105,7 @@ def main():
     ax.axhline(-10.0, color="k", lw=1.0, ls=":", label="lower obstacle g1")
     finish_axes(ax, "t (s)", "free corner u(Lx, 0) (mm)",
           f"energy scene, Δt = 1e-4 s: the corner over the first {CORNER_WINDOW} s")
-    save(fig, out / "corner.png")
+    save(fig, out / "corner.png", dpi=130)
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for e, colour in [(0.5, colours[2]), (1.0, colours[-1])]:
@@ -134,7 +120,7 @@ def main():
               label="2 % of the gap (the penetration target)")
     finish_axes(ax, "Δt (s)", "distance from g1 / gap", "energy scene, 1 s: where contacts turn, against Δt",
           which="both")
-    save(fig, out / "penetration.png")
+    save(fig, out / "penetration.png", dpi=130)
     print(f"wrote {out / 'energy.png'}, {out / 'corner.png'} and {out / 'penetration.png'}")
 
 

@@ -1,9 +1,9 @@
-"""The cost model behind scripts/converge's run-cost estimate (examples/converge.py, RUN_COST):
-the packaged FMU's CPU time per internal step and its set-up, per element and linear backend, for
+"""The cost model behind scripts/converge's run-cost estimate (RUN_COST of
+`plateimpact_tools.converge.study`): the packaged FMU's CPU time per internal step and its set-up, per element and linear backend, for
 meshes on both sides of the switch at 2000 free dofs, and the power laws c·(n/1000)^p fitted to
 them in the free dofs n.
 
-    .venv/bin/python examples/converge_step_cost.py [--fmu target/fmu/PlateImpact.fmu]
+    .venv/bin/python -m plateimpact_tools.converge.step_cost [--fmu target/fmu/PlateImpact.fmu]
 
 Each mesh runs the preset forced-35hz-damped at Δt = h = 1e-4 s through converge.run_setting (the
 study's own runs, reading its outputs at every step) twice, one after the other in this process:
@@ -18,13 +18,12 @@ on a 2-core development machine. Prints a CSV row per mesh, then RUN_COST to std
 import argparse
 import hashlib
 import math
-import pathlib
 import sys
 
-import converge
-from fmu_dask import DEFAULT_FMU
+from plateimpact_tools import DEFAULT_FMU, SCENES
+from plateimpact_tools.converge import study as converge
+from plateimpact_tools.converge.cost import plate_size
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
 # (element, nx, ny): Argyris (1) and FVS (2), modal up to 2000 free dofs and sparse above.
 MESHES = [(1, 10, 7), (1, 14, 8), (1, 20, 10), (1, 21, 12), (1, 30, 15), (1, 40, 20),
           (2, 14, 10), (2, 20, 10), (2, 30, 15), (2, 40, 20), (2, 60, 30)]
@@ -43,13 +42,14 @@ def fit(points):
     return math.exp(my - p * mx), p
 
 
-def measure(blob, digest, scene, element, nx, ny):
-    """(backend, free dofs, CPU s of the short run, CPU µs per step at h = Δt)."""
+def measure(fmu, blob, digest, scene, element, nx, ny):
+    """(backend, free dofs (both as the FMU reports them), CPU s of the short run, CPU µs per
+    step at h = Δt)."""
     values = dict(scene, **{"mesh.element": element, "mesh.nx": nx, "mesh.ny": ny})
-    kind = converge.backend(values, element, nx, ny)
+    n, kind = plate_size(fmu, values)
     cpu = [converge.run_setting(blob, digest, values, DT, 0, steps // 2, 2)[1]
            for steps in (SHORT, SHORT + EXTRA[kind])]
-    return kind, converge.free_dofs(element, nx, ny), cpu[0], 1e6 * (cpu[1] - cpu[0]) / EXTRA[kind]
+    return kind, n, cpu[0], 1e6 * (cpu[1] - cpu[0]) / EXTRA[kind]
 
 
 def main():
@@ -58,14 +58,14 @@ def main():
     args = parser.parse_args()
     blob = open(args.fmu, "rb").read()
     digest = hashlib.sha256(blob).hexdigest()
-    scene = converge.load_scene(ROOT / "scenes" / "forced-35hz-damped.json")
+    scene = converge.load_scene(SCENES / "forced-35hz-damped.json")
     scene["solver.time_step"] = DT
-    overhead = measure(blob, digest, scene, *TINY)[3]
+    overhead = measure(args.fmu, blob, digest, scene, *TINY)[3]
     print(f"# one communication step with its reads (Argyris 2 x 1): {overhead:.2f} us")
     print("element,nx,ny,free_dofs,backend,cpu_short_s,us_per_step_with_reads,us_per_step,setup_s")
     steps, setups = {}, {}
     for element, nx, ny in MESHES:
-        kind, n, short, us = measure(blob, digest, scene, element, nx, ny)
+        kind, n, short, us = measure(args.fmu, blob, digest, scene, element, nx, ny)
         own = us - overhead
         setup = short - 1e-6 * SHORT * us
         steps.setdefault((element, kind), []).append((n, own))

@@ -1,6 +1,6 @@
 """The write step of the damping study: plots and the tables of damping.md, from its CSVs.
 
-Usage: damping_plots.py DIR [--quick] [--tables-only]. Reads
+Usage: python -m plateimpact_tools.studies.damping_plots DIR [--quick] [--tables-only]. Reads
 DIR/damping.csv, damping_meshes.csv, damping_meta.csv (`cargo run --release --example statistics --
 --study damping`, which runs this); writes DIR/damping_wp_<quantity>.png and
 DIR/damping_contact_loss.png, beside each the CSV of the data it shows, and the generated tables
@@ -27,14 +27,11 @@ import math
 import sys
 from pathlib import Path
 
-import matplotlib
+from plateimpact_tools.plotting import pyplot, save
+from plateimpact_tools.studies import pages
+from plateimpact_tools.studies import statistics_plots as sp
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import pages  # noqa: E402
-import statistics_plots as sp  # noqa: E402
+plt = pyplot()
 
 # The source the generated blocks name.
 MODULE = "the damping study's write step"
@@ -257,9 +254,7 @@ def contact_loss_plot(study, out):
             ax.legend(fontsize=6, ncol=2)
     fig.suptitle("Energy removed at the obstacles per forcing period against Δt (bars: 2σ)",
                  fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out / "damping_contact_loss.png", dpi=100)
-    plt.close(fig)
+    save(fig, out / "damping_contact_loss.png", dpi=100)
     pages.figure_data(out / "damping_contact_loss.png", ["scene", "model", "element", "nx", "ny",
                                                          "dt", "value", "spread"], data)
 

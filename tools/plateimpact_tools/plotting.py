@@ -1,0 +1,32 @@
+"""What the package's plots share: matplotlib without a display, and a figure written to a file.
+
+matplotlib is imported on first use, not with this module, so that a Dask worker importing the
+package (it only runs FMU tasks) does not need it.
+"""
+
+
+def pyplot():
+    """matplotlib.pyplot on the Agg backend: figures are written to files, never shown, so the
+    plots run where there is no display (CI, a remote machine)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def save(fig, path, dpi=110):
+    """Writes `fig` to `path` (the format from its suffix) at `dpi`, its layout tightened, and
+    closes it (figures left open hold their memory until the process ends)."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    pyplot().close(fig)
+
+
+def finish_axes(ax, xlabel, ylabel, title, columns=1, **grid):
+    """Labels, title, a light grid (`grid`: its options, e.g. axis="y") and a small legend in
+    `columns` columns, for one plot of lines."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3, **grid)
+    ax.legend(fontsize=8, ncol=columns)
