@@ -756,8 +756,8 @@ fn description_table(name: &str, model: &Model) -> String {
             })
             .collect();
         out.push_str(&format!(
-            "        Variable {{ name: {:?}, vr: {}, kind: Kind::{:?}, causality: Causality::{causality}, variability: Variability::{variability}, start: {start}, min: {:?}, max: {:?}, dimensions: &[{}], intermediate_update: {} }},\n",
-            v.name, v.value_reference, v.kind, v.min, v.max, dimensions.join(", "), v.intermediate_update
+            "        Variable {{ name: {:?}, vr: {}, kind: Kind::{:?}, causality: Causality::{causality}, variability: Variability::{variability}, start: {start}, min: {:?}, max: {:?}, unit: {:?}, description: {:?}, dimensions: &[{}], intermediate_update: {} }},\n",
+            v.name, v.value_reference, v.kind, v.min, v.max, v.unit, v.description, dimensions.join(", "), v.intermediate_update
         ));
     }
     out.push_str("    ],\n};\n\n");

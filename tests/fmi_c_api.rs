@@ -23,7 +23,7 @@ use plate_impact::fmi::host_check::{
 use plate_impact::fmi::variables::{vr, Description, Kind, FMI2, FMI3};
 use proptest::prelude::*;
 
-const WARNING: fmi2Status = 1;
+const OK: fmi2Status = 0;
 const ERROR: fmi2Status = 3;
 
 /// Calls of version `d`, weighted towards those that make a run go on, so that sequences get
@@ -156,8 +156,9 @@ fn null_pointers_and_garbage_are_errors_not_crashes() {
         assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), 0);
         assert_eq!(fmi2EnterInitializationMode(c), 0);
         // The default scene has obstacles and no damping of the high modes: its impact statistics
-        // may not converge, which the FMU says with a warning (docs/accuracy/damping.md).
-        assert_eq!(fmi2ExitInitializationMode(c), WARNING);
+        // may not converge, which the FMU logs as a warning while the call succeeds
+        // (docs/accuracy/damping.md, docs/fmu.md).
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
         assert_eq!(
             fmi2GetReal(c, std::ptr::null(), 1, std::ptr::null_mut()),
             ERROR

@@ -17,8 +17,10 @@
  * also prints the outputs at every communication point of the first run ("point" lines), which
  * tests/fmu/test_platforms.py compares across platforms.
  *
- * The value references and the GUID below are copied from modelDescription.xml; the test
- * tests/fmu/test_c_host.py fails, naming the variable, if any of them no longer matches it.
+ * The value references below are copied from modelDescription.xml; the test
+ * tests/fmu/test_c_host.py fails, naming the variable, if any of them no longer matches it. The
+ * GUID is read from the unzipped FMU's modelDescription.xml at run time, as importers do: the
+ * build derives it from the description's content, so it changes with every new description.
  */
 #define _XOPEN_SOURCE 700 /* realpath, dlopen */
 
@@ -42,8 +44,6 @@
 #define PLATE_HOST_BINARY "binaries/linux64/PlateImpact.so"
 #endif
 #endif
-
-#define PLATE_IMPACT_GUID "{75cd278b-8e21-4b2a-874d-f1cc0adc599e}"
 
 /* Value references: name in modelDescription.xml, type, unit. */
 enum {
@@ -169,6 +169,31 @@ static void print_outputs(const char *label, const double y[OUTPUT_COUNT]) {
         printf("%s %s %a (%.6g)\n", label, output_names[k], y[k], y[k]);
 }
 
+/* Copies the guid attribute of FMU_DIR/modelDescription.xml into `guid` (at most `size` bytes with
+ * the NUL); returns 0, or -1 after saying what is wrong. */
+static int read_guid(const char *fmu_dir, char *guid, size_t size) {
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/modelDescription.xml", fmu_dir);
+    FILE *file = fopen(path, "rb");
+    if (!file) {
+        perror(path);
+        return -1;
+    }
+    static char text[1 << 20]; /* the description is about 25 kB */
+    size_t length = fread(text, 1, sizeof text - 1, file);
+    fclose(file);
+    text[length] = '\0';
+    const char *start = strstr(text, " guid=\"");
+    const char *end = start ? strchr(start + 7, '"') : NULL;
+    if (!end || (size_t)(end - (start + 7)) >= size) {
+        fprintf(stderr, "%s has no guid attribute\n", path);
+        return -1;
+    }
+    memcpy(guid, start + 7, (size_t)(end - (start + 7)));
+    guid[end - (start + 7)] = '\0';
+    return 0;
+}
+
 int main(int argc, char **argv) {
     const int trace = argc == 3 && strcmp(argv[2], "--trajectory") == 0;
     if (argc != 2 && !trace) {
@@ -176,7 +201,8 @@ int main(int argc, char **argv) {
         return EXIT_FAILURE;
     }
     Fmi2 fmi;
-    if (load(argv[1], &fmi) != 0) return EXIT_FAILURE;
+    char guid[64];
+    if (read_guid(argv[1], guid, sizeof guid) != 0 || load(argv[1], &fmi) != 0) return EXIT_FAILURE;
 
     /* fmuResourceLocation is a file URI of the FMU's resources folder (this FMU has none). */
     char directory[PATH_MAX], resources[PATH_MAX + 32];
@@ -191,7 +217,7 @@ int main(int argc, char **argv) {
                                        .freeMemory = free,
                                        .stepFinished = NULL,
                                        .componentEnvironment = NULL};
-    fmi2Component c = fmi.Instantiate("plate", fmi2CoSimulation, PLATE_IMPACT_GUID, resources,
+    fmi2Component c = fmi.Instantiate("plate", fmi2CoSimulation, guid, resources,
                                       &callbacks, fmi2False, fmi2False);
     if (!c) {
         fprintf(stderr, "fmi2Instantiate failed\n");

@@ -6,6 +6,16 @@
 //!   `modelDescription/modelDescription-fmi3.xml`) and its binaries under
 //!   `binaries/<platform tuple>/` (FMI 3.0 §2.5).
 //!
+//! Both also carry `documentation/index.html` and, under `extra/org.fmi-standard.fmi-ls-ref/`, the
+//! shipped scenes as parameter sets with their reference results ([`contents`]).
+//! `package-fmu --write-docs` only rewrites the variable tables of the docs from the model
+//! descriptions ([`documentation`]).
+//!
+//! The model descriptions are those the library was built with (`SHIPPED_FMI2_XML`,
+//! `SHIPPED_FMI3_XML`: the guid and instantiationToken derived from their content by build.rs), and
+//! each binary must carry both tokens, so that an FMU never pairs a description with a binary
+//! built from another.
+//!
 //! Every binary is the same cdylib (it exports the FMI 2.0 and the FMI 3.0 functions), built for
 //! one platform. Two modes (docs/platforms.md):
 //! * `cargo run --release --bin package-fmu`, the developer FMUs: `cargo build --release --lib`,
@@ -21,7 +31,14 @@
 
 #![deny(unsafe_code)]
 
-use plate_impact::fmi::variables::MODEL_IDENTIFIER;
+#[path = "package-fmu/contents.rs"]
+mod contents;
+#[path = "package-fmu/documentation.rs"]
+mod documentation;
+
+use plate_impact::fmi::variables::{
+    FMI2, FMI3, MODEL_IDENTIFIER, SHIPPED_FMI2_XML, SHIPPED_FMI3_XML,
+};
 use std::ffi::OsString;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -323,23 +340,44 @@ fn release_binaries(root: &Path, target: &Path) -> Result<Vec<Binary>, String> {
         .collect()
 }
 
-/// Writes the FMU `file` into `out_dir`: the model description at `description` and the binaries,
-/// each under `binaries/<folder>/` where `folder` gives it one.
+/// Checks that every binary carries the tokens of both model descriptions (the instantiation
+/// functions compare the importer's token with them): a binary built from other descriptions, or a
+/// stale one, would refuse every instantiation.
+fn check_tokens(binaries: &[Binary]) -> Result<(), String> {
+    for binary in binaries {
+        for token in [FMI2.token, FMI3.token] {
+            let found = binary
+                .bytes
+                .windows(token.len())
+                .any(|w| w == token.as_bytes());
+            if !found {
+                return Err(format!(
+                    "the {} binary does not carry the token {token} of this build's model \
+                     descriptions: it was built from other sources",
+                    binary.fmi3
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes the FMU `file` into `out_dir`: the model description `description`, the binaries, each
+/// under `binaries/<folder>/` where `folder` gives it one, and the `extra` files.
 fn write_fmu(
-    root: &Path,
     out_dir: &Path,
     file: &str,
     description: &str,
     binaries: &[Binary],
     folder: impl Fn(&Binary) -> Option<&'static str>,
+    extra: &[contents::Entry],
 ) -> Result<PathBuf, String> {
-    let description = read(&root.join(description))?;
     let path = out_dir.join(file);
     let out = std::fs::File::create(&path)
         .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
     let mut zip = zip::ZipWriter::new(out);
     let options = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
-    let mut entries = vec![("modelDescription.xml".to_string(), description.as_slice())];
+    let mut entries = vec![("modelDescription.xml".to_string(), description.as_bytes())];
     for binary in binaries {
         if let Some(folder) = folder(binary) {
             entries.push((
@@ -347,6 +385,9 @@ fn write_fmu(
                 &binary.bytes,
             ));
         }
+    }
+    for (name, bytes) in extra {
+        entries.push((name.clone(), bytes));
     }
     for (name, bytes) in entries {
         zip.start_file(name.as_str(), options)
@@ -358,8 +399,15 @@ fn write_fmu(
     Ok(path)
 }
 
-/// Whether the release FMUs were asked for: `--all-platforms` or `PLATE_IMPACT_PLATFORMS=all`.
-fn all_platforms() -> Result<bool, String> {
+/// What the command line asks for.
+struct Options {
+    /// The release FMUs: `--all-platforms` or `PLATE_IMPACT_PLATFORMS=all`.
+    all_platforms: bool,
+    /// `--write-docs`: rewrite the variable tables of the docs, package nothing.
+    write_docs: bool,
+}
+
+fn options() -> Result<Options, String> {
     let mut all = match std::env::var("PLATE_IMPACT_PLATFORMS").as_deref() {
         Ok("all") => true,
         Ok("" | "host") | Err(_) => false,
@@ -369,50 +417,94 @@ fn all_platforms() -> Result<bool, String> {
             ))
         }
     };
+    let mut write_docs = false;
     for arg in std::env::args().skip(1) {
         match arg.as_str() {
             "--all-platforms" => all = true,
+            "--write-docs" => write_docs = true,
             _ => {
                 return Err(format!(
-                    "unknown argument {arg} (the only one is --all-platforms)"
+                    "unknown argument {arg} (the arguments are --all-platforms and --write-docs)"
                 ))
             }
         }
     }
-    Ok(all)
+    Ok(Options {
+        all_platforms: all,
+        write_docs,
+    })
+}
+
+/// Rewrites the variable table of each of [`documentation::TABLE_FILES`] from the model
+/// descriptions; returns the files.
+fn write_docs(root: &Path) -> Result<Vec<PathBuf>, String> {
+    let table = documentation::variable_table(&FMI2, &FMI3);
+    documentation::TABLE_FILES
+        .iter()
+        .map(|file| {
+            let path = root.join(file);
+            let text =
+                std::fs::read_to_string(&path).map_err(|e| format!("cannot read {file}: {e}"))?;
+            std::fs::write(&path, documentation::with_table(file, &text, &table)?)
+                .map_err(|e| format!("cannot write {file}: {e}"))?;
+            Ok(path)
+        })
+        .collect()
+}
+
+/// Checks that both model descriptions declare the crate's version: one version for the library
+/// and both FMUs.
+fn check_version() -> Result<&'static str, String> {
+    let version = env!("CARGO_PKG_VERSION");
+    for (fmi, text) in [("2.0", SHIPPED_FMI2_XML), ("3.0", SHIPPED_FMI3_XML)] {
+        if !text.contains(&format!("\n  version=\"{version}\"\n")) {
+            return Err(format!(
+                "the FMI {fmi} model description does not declare version=\"{version}\", the \
+                 crate's version (Cargo.toml): set the same version in all three"
+            ));
+        }
+    }
+    Ok(version)
 }
 
 fn run() -> Result<Vec<PathBuf>, String> {
-    let all = all_platforms()?;
+    let options = options()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if options.write_docs {
+        return write_docs(root);
+    }
+    let version = check_version()?;
+    // The extra files first: a stale docs table stops packaging before any build.
+    let extra = contents::entries(root, version)?;
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .map(|t| if t.is_absolute() { t } else { root.join(t) })
         .unwrap_or_else(|| root.join("target"));
-    let binaries = if all {
+    let binaries = if options.all_platforms {
         release_binaries(root, &target)?
     } else {
         vec![host_binary(root, &target)?]
     };
+    check_tokens(&binaries)?;
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
     Ok(vec![
         write_fmu(
-            root,
             &out_dir,
             &format!("{MODEL_IDENTIFIER}.fmu"),
-            "modelDescription/modelDescription.xml",
+            SHIPPED_FMI2_XML,
             &binaries,
             |b| b.fmi2,
+            &extra,
         )?,
         write_fmu(
-            root,
             &out_dir,
             &format!("{MODEL_IDENTIFIER}-fmi3.fmu"),
-            "modelDescription/modelDescription-fmi3.xml",
+            SHIPPED_FMI3_XML,
             &binaries,
             |b| Some(b.fmi3),
+            &extra,
         )?,
     ])
 }

@@ -112,7 +112,9 @@ pub trait Model: Send + Sized {
     fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), Failure>;
 
     /// The end of initialization: the last chance to refuse the parameters; sets the model up.
-    /// Returns [`Status::Warning`] when it logged a warning to `log`.
+    /// Returns [`Status::Warning`] when the set-up itself is degraded; advice that changes no
+    /// result goes to `log` while the call returns [`Status::Ok`], so that importers that stop at
+    /// any other status run on (docs/fmu.md, "Errors and logging").
     fn exit_initialization(&mut self, log: &mut Logger) -> Result<Status, Failure>;
 
     /// The current time (s).

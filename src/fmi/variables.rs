@@ -98,6 +98,10 @@ pub struct Variable {
     pub min: Option<f64>,
     /// Declared maximum, if any.
     pub max: Option<f64>,
+    /// Declared unit, if any.
+    pub unit: Option<&'static str>,
+    /// The description's text, if any.
+    pub description: Option<&'static str>,
     /// The dimensions of an array variable, outermost first (empty for a scalar).
     pub dimensions: &'static [Dimension],
     /// Whether the variable may be read or written during an intermediate update (FMI 3.0).

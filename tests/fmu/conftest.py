@@ -131,7 +131,7 @@ class Plate:
         for name, value in (start_values or {}).items():
             self.set(name, value)
         self.fmu.enterInitializationMode()
-        self.fmu.exitInitializationMode()
+        self.exit_status = self.fmu.exitInitializationMode()  # fmi2Status
         self.time = start
         return self
 
@@ -217,7 +217,8 @@ class Plate3:
         for name, value in (start_values or {}).items():
             self.set(name, value)
         self.fmu.enterInitializationMode(startTime=start, stopTime=stop)
-        self.fmu.exitInitializationMode()
+        # fmpy's exitInitializationMode drops the status; its raw wrapper returns it (fmi3Status).
+        self.exit_status = self.fmu.fmi3ExitInitializationMode(self.fmu.component)
         self.time = start
         return self
 

@@ -162,16 +162,22 @@ def test_the_windows_dll_under_wine_gives_the_linux_trajectory_bit_for_bit(unzip
     assert summary == linux_summary
 
 
-def test_the_aarch64_library_under_qemu_agrees_with_x86_64(unzipdir3, linux_points,
+def test_the_aarch64_library_under_qemu_agrees_with_x86_64(unzipdir, unzipdir3, linux_points,
                                                            tmp_path_factory):
     qemu = tool("qemu-aarch64", "qemu-user")
     gcc = tool("aarch64-linux-gnu-gcc", "gcc-aarch64-linux-gnu")
-    host = tmp_path_factory.mktemp("host-aarch64") / "plate_host"
-    # The FMI 2.0 host over the FMI 3.0 FMU's aarch64 binary (the same library: it exports both).
+    out = tmp_path_factory.mktemp("host-aarch64")
+    host = out / "plate_host"
+    # The FMI 2.0 host over the FMI 3.0 FMU's aarch64 binary (the same library: it exports both),
+    # placed beside the FMI 2.0 description, whose guid the host reads and the library checks.
+    fmu = out / "fmu"
+    (fmu / "binaries" / "aarch64-linux").mkdir(parents=True)
+    shutil.copy(pathlib.Path(unzipdir) / "modelDescription.xml", fmu)
+    shutil.copy(pathlib.Path(unzipdir3) / "binaries" / "aarch64-linux" / "PlateImpact.so",
+                fmu / "binaries" / "aarch64-linux")
     run([gcc, *FLAGS, '-DPLATE_HOST_BINARY="binaries/aarch64-linux/PlateImpact.so"', SOURCE,
          "-o", host, "-ldl"])
-    done = run([qemu, "-L", "/usr/aarch64-linux-gnu", host, unzipdir3, "--trajectory"],
-               timeout=1200)
+    done = run([qemu, "-L", "/usr/aarch64-linux-gnu", host, fmu, "--trajectory"], timeout=1200)
     points, _ = parse_host(done.stdout)
     reference, _ = linux_points
     for column, name in enumerate(["corner1.displacement", "corner2.displacement",

@@ -945,7 +945,8 @@ fn the_modal_ratio_reaches_the_scheme() {
 }
 
 /// The warning at the end of initialization (docs/accuracy/damping.md): the paper's forced scene
-/// (undamped, obstacles) warns, naming the documentation section, with fmi2Warning; the damped
+/// (undamped, obstacles) warns, naming the documentation section, in a message of status Warning
+/// while the call returns fmi2OK (strict importers stop at a returned Warning); the damped
 /// preset `forced-35hz-damped` (β = 2ζ₁/ω₁, ζ₁ = 1 %, Δt = 1e-4 s) and a plate without obstacles
 /// do not. The warning changes no result: the warned run equals the library's bit for bit.
 #[test]
@@ -995,7 +996,7 @@ fn unconverged_statistics_settings_warn_at_initialization() {
     let mut forced = Scene::named("forced-35hz").unwrap();
     (forced.mesh.nx, forced.mesh.ny) = (3, 2);
     let (mut inst, status, warnings) = run(&forced);
-    assert_eq!(status, Status::Warning);
+    assert_eq!(status, Status::Ok);
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].contains(DOCS_SECTION), "{}", warnings[0]);
     let library = library_outputs(&forced, 100);

@@ -14,7 +14,7 @@ use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{bound_tolerance, Outputs};
 
 /// The value of a parameter in `scene`, typed as the variable declares it: a direct field read
-/// ([`field`]), no JSON.
+/// (`field`), no JSON.
 pub fn parameter(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
     field(scene, v.name).ok_or_else(|| {
         Failure::refused(format!("{} has no field binding (internal error)", v.name))

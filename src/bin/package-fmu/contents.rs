@@ -1,0 +1,215 @@
+//! What the FMUs carry besides the model description and the binaries: their documentation page
+//! and, in the layout of the FMI layered standard for references (FMI-LS-REF, version
+//! 1.0.0-alpha.1), the shipped scenes as SSP parameter sets, their reference results and the
+//! experiments that pair them (docs/fmu.md, "What the FMU carries").
+//!
+//! * `documentation/index.html`: `docs/fmu-documentation.md` rendered ([`documentation::html`]);
+//! * `extra/org.fmi-standard.fmi-ls-ref/fmi-ls-manifest.xml`: one `<Related>` per file below and
+//!   the documentation page, with its role (`parameter`, `experiment/validation`, `result`,
+//!   `document`) and MIME type;
+//! * `<scene>.ssv` per scene of `scenes/` (SSP 1.0 SystemStructureParameterValues): every FMU
+//!   parameter by name with the value the FMU reports for that scene, in the units the model
+//!   description declares;
+//! * `<scene>.csv`: the scene's reference result, the golden result the test suite holds the FMU to
+//!   (`tests/fmu/reference/`, from the x86_64 Linux binary);
+//! * `experiments.xml` (the experiments format of the Modelica Association's harmonized
+//!   specifications, as far as its draft goes): per scene its start and stop time, communication
+//!   step, parameter set and reference result.
+//!
+//! Paths in the manifest and in `experiments.xml` are relative to the folder that holds them.
+
+use crate::documentation;
+use plate_impact::fmi::model::Value;
+use plate_impact::fmi::plate::parameter_value;
+use plate_impact::fmi::variables::{Causality, FMI2};
+use plate_impact::scene::{Scene, NAMED_SCENES};
+use std::fmt::Write;
+use std::path::Path;
+
+/// The folder of the layered standard for references in the FMU.
+pub const LS_REF: &str = "extra/org.fmi-standard.fmi-ls-ref";
+/// Where the golden results live in the repository.
+const REFERENCES: &str = "tests/fmu/reference";
+/// The communication step of the reference results (s).
+pub const REFERENCE_STEP: f64 = 1e-3;
+
+/// One file of the FMU: its path in the archive and its bytes.
+pub type Entry = (String, Vec<u8>);
+
+/// The scene's parameter set: every FMI 2.0 parameter (the FMI 3.0 FMU has the same ones, and
+/// its structural parameters keep their start values: every shipped scene has the default mesh
+/// size) with the FMU's value for the scene.
+pub fn ssv(name: &str, scene: &Scene) -> Result<String, String> {
+    let mut out = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+         <ssv:ParameterSet xmlns:ssv=\"http://ssp-standard.org/SSP1/SystemStructureParameterValues\" \
+         version=\"1.0\" name=\"{name}\">\n  <ssv:Parameters>\n"
+    );
+    for v in FMI2
+        .variables
+        .iter()
+        .filter(|v| v.causality == Causality::Parameter)
+    {
+        let value = parameter_value(scene, v).map_err(|e| format!("{name}: {}", e.message))?;
+        let element = match value {
+            Value::Real(x) => format!("<ssv:Real value=\"{x:?}\"/>"),
+            Value::Integer(i) => format!("<ssv:Integer value=\"{i}\"/>"),
+            Value::Boolean(b) => format!("<ssv:Boolean value=\"{b}\"/>"),
+            Value::UInt64(n) => format!("<ssv:Integer value=\"{n}\"/>"),
+        };
+        let _ = writeln!(
+            out,
+            "    <ssv:Parameter name=\"{}\">{element}</ssv:Parameter>",
+            v.name
+        );
+    }
+    out.push_str("  </ssv:Parameters>\n</ssv:ParameterSet>\n");
+    Ok(out)
+}
+
+/// The experiments: per scene, its horizon, the reference step, parameter set and result.
+fn experiments(version: &str, scenes: &[(&str, Scene)]) -> String {
+    let mut out = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+         <Experiments name=\"PlateImpact {version}: the shipped scenes against their reference results\">\n"
+    );
+    for (name, scene) in scenes {
+        let _ = write!(
+            out,
+            "  <Experiment name=\"{name}\" startTime=\"0\" stopTime=\"{:?}\" stepSize=\"{REFERENCE_STEP:?}\">\n\
+             \x20   <Parameters source=\"{name}.ssv\"/>\n\
+             \x20   <References source=\"{name}.csv\"/>\n  </Experiment>\n",
+            scene.stop_time
+        );
+    }
+    out.push_str("</Experiments>\n");
+    out
+}
+
+/// The FMI-LS-REF manifest listing the files.
+fn manifest(scenes: &[(&str, Scene)]) -> String {
+    let mut out = String::from(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+         <fmiReferences xmlns:fmi-ls=\"http://fmi-standard.org/fmi-ls-manifest\" \
+         fmi-ls:fmi-ls-name=\"org.fmi-standard.fmi-ls-ref\" fmi-ls:fmi-ls-version=\"1.0.0-alpha.1\" \
+         fmi-ls:fmi-ls-description=\"Layered Standard providing information on related files included in an FMU.\">\n\
+         \x20 <Related type=\"text/html\" source=\"../../documentation/index.html\" role=\"document\" \
+         description=\"the model, every variable, the scheme's settings, the reference results and their tolerances\"/>\n\
+         \x20 <Related type=\"application/x-ma-hs-experiments\" source=\"experiments.xml\" role=\"experiment/validation\" \
+         description=\"each shipped scene run over its horizon against its reference result\"/>\n",
+    );
+    for (name, _) in scenes {
+        let _ = write!(
+            out,
+            "  <Related type=\"application/x-ssp-parameter-set\" source=\"{name}.ssv\" role=\"parameter\" \
+             description=\"the scene {name}: every parameter\"/>\n\
+             \x20 <Related type=\"text/csv\" source=\"{name}.csv\" role=\"result\" \
+             description=\"the scene {name}: every output at each {REFERENCE_STEP} s communication point\"/>\n"
+        );
+    }
+    out.push_str("</fmiReferences>\n");
+    out
+}
+
+/// Every extra file of both FMUs, read or generated from the repository at `root`.
+pub fn entries(root: &Path, version: &str) -> Result<Vec<Entry>, String> {
+    let read = |relative: &str| {
+        std::fs::read_to_string(root.join(relative))
+            .map_err(|e| format!("cannot read {relative}: {e}"))
+    };
+    let table = documentation::variable_table(&FMI2, &plate_impact::fmi::variables::FMI3);
+    for file in documentation::TABLE_FILES {
+        let text = read(file)?;
+        if documentation::with_table(file, &text, &table)? != text {
+            return Err(format!(
+                "the variable table of {file} is stale: run `cargo run --release --bin \
+                 package-fmu -- --write-docs`"
+            ));
+        }
+    }
+    let page = documentation::html(
+        &read(documentation::PAGE_SOURCE)?,
+        &format!("PlateImpact {version}"),
+    );
+    let scenes = NAMED_SCENES
+        .iter()
+        .map(|(name, _)| Scene::named(name).map(|s| (*name, s)))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| format!("a shipped scene does not load: {e}"))?;
+    let mut entries: Vec<Entry> = vec![
+        ("documentation/index.html".into(), page.into_bytes()),
+        (
+            format!("{LS_REF}/fmi-ls-manifest.xml"),
+            manifest(&scenes).into_bytes(),
+        ),
+        (
+            format!("{LS_REF}/experiments.xml"),
+            experiments(version, &scenes).into_bytes(),
+        ),
+    ];
+    for (name, scene) in &scenes {
+        entries.push((
+            format!("{LS_REF}/{name}.ssv"),
+            ssv(name, scene)?.into_bytes(),
+        ));
+        let csv = format!("{REFERENCES}/{name}.csv");
+        entries.push((format!("{LS_REF}/{name}.csv"), read(&csv)?.into_bytes()));
+    }
+    Ok(entries)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_parameter_set_names_every_parameter_once_with_its_type() {
+        let scene = Scene::named("forced-35hz-damped").unwrap();
+        let text = ssv("forced-35hz-damped", &scene).unwrap();
+        let parameters = FMI2
+            .variables
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter);
+        for v in parameters {
+            assert_eq!(
+                text.matches(&format!("name=\"{}\"", v.name)).count(),
+                1,
+                "{}",
+                v.name
+            );
+        }
+        for line in [
+            "<ssv:Parameter name=\"base.frequency\"><ssv:Real value=\"35.0\"/></ssv:Parameter>",
+            "<ssv:Parameter name=\"damping.stiffness_proportional\"><ssv:Real value=\"5.913e-5\"/></ssv:Parameter>",
+            "<ssv:Parameter name=\"mesh.element\"><ssv:Integer value=\"1\"/></ssv:Parameter>",
+            "<ssv:Parameter name=\"obstacle.upper_enabled\"><ssv:Boolean value=\"true\"/></ssv:Parameter>",
+        ] {
+            assert!(text.contains(line), "{line} not in\n{text}");
+        }
+    }
+
+    #[test]
+    fn the_manifest_lists_every_file_the_experiments_use() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let entries = entries(root, "0.0.0").unwrap();
+        let names: Vec<&str> = entries.iter().map(|(n, _)| n.as_str()).collect();
+        let text = |name: &str| {
+            let (_, bytes) = entries.iter().find(|(n, _)| n == name).unwrap();
+            String::from_utf8(bytes.clone()).unwrap()
+        };
+        let manifest = text(&format!("{LS_REF}/fmi-ls-manifest.xml"));
+        let experiments = text(&format!("{LS_REF}/experiments.xml"));
+        for (name, _) in NAMED_SCENES {
+            for file in [format!("{name}.ssv"), format!("{name}.csv")] {
+                assert!(names.contains(&format!("{LS_REF}/{file}").as_str()));
+                assert!(manifest.contains(&format!("source=\"{file}\"")), "{file}");
+                assert!(
+                    experiments.contains(&format!("source=\"{file}\"")),
+                    "{file}"
+                );
+            }
+        }
+        assert!(names.contains(&"documentation/index.html"));
+        assert_eq!(entries.len(), 3 + 2 * NAMED_SCENES.len());
+    }
+}
