@@ -122,6 +122,20 @@ impl StudyDir {
         }
     }
 
+    /// Makes sure the directory holds the hand-written page `name` of docs/`docs`, whose
+    /// generated tables the write step fills: a directory other than docs/`docs` (a quick run's,
+    /// or `--out`) gets a copy of the committed page when it has none.
+    pub fn page(&self, docs: &str, name: &str) -> Result<(), String> {
+        let target = self.path.join(name);
+        if target.exists() {
+            return Ok(());
+        }
+        let source = repository().join("docs").join(docs).join(name);
+        std::fs::copy(&source, &target)
+            .map(|_| ())
+            .map_err(|e| format!("{}: {e}", source.display()))
+    }
+
     /// One message per file of `names` that is missing or empty.
     pub fn missing(&self, names: &[&str]) -> Vec<String> {
         names
@@ -142,6 +156,27 @@ impl StudyDir {
                 .map_err(|e| format!("{}: {e}", self.path.display()))?;
         }
         Ok(())
+    }
+}
+
+/// The commit of the repository's checkout (`git rev-parse HEAD`), with `+modified` when the
+/// work tree differs from it (`git status --porcelain` prints anything): what a study records
+/// in its meta file, so its data name the code that made them. `unknown` without git.
+pub fn source_revision() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(repository())
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match (git(&["rev-parse", "HEAD"]), git(&["status", "--porcelain"])) {
+        (Some(commit), Some(status)) if status.is_empty() => commit,
+        (Some(commit), Some(_)) => format!("{commit}+modified"),
+        _ => "unknown".to_string(),
     }
 }
 

@@ -1,9 +1,14 @@
-"""Plots and the generated part of damping.md, from the CSVs of the damping study.
+"""The write step of the damping study: plots and the tables of damping.md, from its CSVs.
 
-Usage: python -m plateimpact_tools.studies.damping_plots DIR [--quick]. Reads DIR/damping.csv, damping_meshes.csv, damping_meta.csv
-(`cargo run --release --example statistics -- --study damping`, which runs this); writes
-DIR/damping_wp_<quantity>.png, DIR/damping_contact_loss.png and the part of DIR/damping.md between
-the markers GENERATED_BEGIN and GENERATED_END (the rest of the page is hand-written).
+Usage: python -m plateimpact_tools.studies.damping_plots DIR [--quick] [--tables-only]. Reads
+DIR/damping.csv, damping_meshes.csv, damping_meta.csv (`cargo run --release --example statistics --
+--study damping`, which runs this); writes DIR/damping_wp_<quantity>.png and
+DIR/damping_contact_loss.png, beside each the CSV of the data it shows, and the generated tables
+of DIR/damping.md (the page is hand-written; `pages.fill`).
+
+The model comparison (tables, work-precision plots, contact loss) reads the runs of the plan's
+grid and contact-loss parts on the grid's meshes; the finer-reference and threshold parts have a
+table each.
 
 Each (scene, damping model) pair is a scene of `statistics_plots`, whose definitions this
 reuses (agree, reference, error, reaches, settled in Δt). In addition:
@@ -22,12 +27,14 @@ import math
 import sys
 from pathlib import Path
 
-import matplotlib
+from plateimpact_tools.plotting import pyplot, save
+from plateimpact_tools.studies import pages
+from plateimpact_tools.studies import statistics_plots as sp
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+plt = pyplot()
 
-from plateimpact_tools.studies import statistics_plots as sp  # noqa: E402
+# The source the generated blocks name.
+MODULE = "the damping study's write step"
 
 SCENES = ["forced-35hz", "forced-60hz"]
 SCENE_SHORT = {"forced-35hz": "35 Hz, c = 9 mm", "forced-60hz": "60 Hz, c = 2 mm"}
@@ -40,32 +47,51 @@ MODEL_TITLES = {
     "rayleigh-5k": "Rayleigh ζ = 1 % at f₁, 5 kHz",
     "rayleigh-20k": "Rayleigh ζ = 1 % at f₁, 20 kHz",
     "modal": "modal ζ_m = 1 %",
+    "beta-half": "β only, ζ₁ = 0.5 %",
 }
 QUANTITIES = ["mean_energy_J", "rms_corner_m", "mean_abs_base_force_N", "rms_base_force_N",
               "impacts_per_period", "contact_loss_per_period_J"]
 FINEST = ("argyris", 14, 10)
 FVS_FINEST = ("fvs", 14, 10)
-BEGIN = "<!-- GENERATED_BEGIN by plateimpact_tools.studies.damping_plots: do not edit below -->"
-END = "<!-- GENERATED_END -->"
+# The parts of the plan the model comparison reads (a CSV without parts is all grid).
+COMPARED = ("grid", "contact-loss")
+# The threshold table: the models, and the forcing and mesh of their Δt series.
+THRESHOLD_MODELS = ["beta", "beta-half", "rayleigh-5k", "modal"]
+THRESHOLD_AT = ("forced-35hz", ("argyris", 10, 7))
+# The finer-reference table: β at 1e-6 s on these meshes.
+FINER_MESHES = [("argyris", 10, 7), ("argyris", 14, 10), ("argyris", 20, 14), ("fvs", 14, 10),
+                ("fvs", 20, 14), ("fvs", 28, 20)]
 
 
-def load(out):
-    """A statistics_plots.Study whose scenes are the (scene, model) pairs, as 'scene/model'."""
-    study = sp.Study.__new__(sp.Study)
-    study.rows = sp.read(out / "damping.csv")
-    for r in study.rows:
+def read_rows(out):
+    """Every row of damping.csv, numbers parsed, the scene as 'scene/model'."""
+    rows = sp.read(out / "damping.csv")
+    for r in rows:
         for k in ("dt", "omega_max_dt", "value", "spread", "wall_s"):
             r[k] = float(r[k])
+        r["zeta_hf"] = float(r["zeta_hf"]) if r.get("zeta_hf") else None
         r["nx"], r["ny"] = int(r["nx"]), int(r["ny"])
         r["mesh"] = (r["element"], r["nx"], r["ny"])
         r["scene"] = f"{r['scene']}/{r['damping']}"
+        r.setdefault("part", "grid")
+    return rows
+
+
+def load(out):
+    """A statistics_plots.Study of the compared runs, whose scenes are the (scene, model) pairs,
+    as 'scene/model', and `all_rows`, every run."""
+    study = sp.Study.__new__(sp.Study)
+    study.all_rows = read_rows(out)
+    study.rows = [r for r in study.all_rows if r["part"] in COMPARED]
+    compared = {r["mesh"] for r in study.rows}
     study.meshes = sp.read(out / "damping_meshes.csv")
     for m in study.meshes:
         m["key"] = (m["element"], int(m["nx"]), int(m["ny"]))
         m["free_dofs"] = int(m["free_dofs"])
         m["omega_max"] = float(m["omega_max_rad_s"])
     study.mesh_keys = [m["key"] for m in sorted(study.meshes,
-                                                key=lambda m: (m["element"], m["free_dofs"]))]
+                                                key=lambda m: (m["element"], m["free_dofs"]))
+                       if m["key"] in compared]
     study.meta = {row["key"]: row["value"] for row in sp.read(out / "damping_meta.csv")}
     study.replicas = []
     study.scenes = [f"{s}/{m}" for s in SCENES for m in MODELS
@@ -202,6 +228,7 @@ def contact_loss_plot(study, out):
     fig, axes = plt.subplots(len(SCENES), len(models), figsize=(4.2 * len(models), 7.6),
                              squeeze=False)
     q = "contact_loss_per_period_J"
+    data = []
     for i, scene in enumerate(SCENES):
         for j, model in enumerate(models):
             ax = axes[i][j]
@@ -210,6 +237,8 @@ def contact_loss_plot(study, out):
                 meshes = [m for m in study.mesh_keys if m[0] == element]
                 for k, mesh in enumerate(meshes):
                     runs = study.select(key, q, mesh)
+                    data += [[scene, model, *mesh, r["dt"], r["value"], r["spread"]]
+                             for r in runs]
                     if runs:
                         ax.errorbar([r["dt"] for r in runs], [r["value"] for r in runs],
                                     yerr=[2 * r["spread"] for r in runs],
@@ -225,14 +254,80 @@ def contact_loss_plot(study, out):
             ax.legend(fontsize=6, ncol=2)
     fig.suptitle("Energy removed at the obstacles per forcing period against Δt (bars: 2σ)",
                  fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out / "damping_contact_loss.png", dpi=100)
-    plt.close(fig)
+    save(fig, out / "damping_contact_loss.png", dpi=100)
+    pages.figure_data(out / "damping_contact_loss.png", ["scene", "model", "element", "nx", "ny",
+                                                         "dt", "value", "spread"], data)
 
 
-def main():
-    out = Path(sys.argv[1])
-    study = load(out)
+def signed(x):
+    """x with two decimals and its sign, a minus sign (−) below zero."""
+    return f"+{x:.2f}" if x >= 0 else f"−{-x:.2f}"
+
+
+def threshold_table(study):
+    """The Δt series behind the start-up warning's threshold: ζ_hf, the mean energy (and its
+    change from the series' smallest Δt), impacts per period and the RMS corner."""
+    lines = ["| damping | Δt (s) | ζ_hf | mean energy.total (J) | against the smallest Δt | "
+             "impacts per period | RMS corner (mm) |", "|---|---|---|---|---|---|---|"]
+    scene, mesh = THRESHOLD_AT
+    for model in THRESHOLD_MODELS:
+        key = f"{scene}/{model}"
+
+        def series(q):
+            return sorted((r for r in study.all_rows if r["scene"] == key and r["mesh"] == mesh
+                           and r["quantity"] == q), key=lambda r: -r["dt"])
+
+        energy = series("mean_energy_J")
+        impacts = {r["dt"]: r for r in series("impacts_per_period")}
+        corner = {r["dt"]: r for r in series("rms_corner_m")}
+        for k, r in enumerate(energy):
+            change = signed(100 * (r["value"] / energy[-1]["value"] - 1))
+            lines.append(
+                f"| {MODEL_TITLES[model] if k == 0 else ''} | {r['dt']:g} | {r['zeta_hf']:.3g} | "
+                f"{sp.with_spread('mean_energy_J', r)} | {change} % | "
+                f"{sp.with_spread('impacts_per_period', impacts[r['dt']])} | "
+                f"{sp.with_spread('rms_corner_m', corner[r['dt']])} |")
+    return lines
+
+
+def finer_table(study):
+    """β at 1e-6 s on meshes finer than the reference's: each value and its difference from the
+    reference, Argyris 14 × 10."""
+    lines = ["| scene | quantity | " + " | ".join(sp.mesh_name(m) for m in FINER_MESHES) + " |",
+             "|---|---|" + "---|" * len(FINER_MESHES)]
+    for scene in SCENES:
+        for q in QUANTITIES[:4]:
+            at = {r["mesh"]: r for r in study.all_rows if r["scene"] == f"{scene}/beta"
+                  and r["quantity"] == q and r["dt"] == 1e-6}
+            ref = at.get(FINEST)
+            cells = []
+            for m in FINER_MESHES:
+                r = at.get(m)
+                if r is None or ref is None:
+                    cells.append("–")
+                elif m == FINEST:
+                    cells.append(f"{sp.number(sp.shown(q, r['value']), 5)} (reference)")
+                else:
+                    change = 100 * (r["value"] / ref["value"] - 1)
+                    cells.append(f"{sp.number(sp.shown(q, r['value']), 5)} ({signed(change)} %)")
+            lines.append(f"| {SCENE_SHORT[scene]} | {sp.md_name(q)}{sp.unit(q)} | "
+                         + " | ".join(cells) + " |")
+    return lines
+
+
+def tables(study):
+    """The generated tables of damping.md, by block name."""
+    out = {}
+    for scene in SCENES:
+        out[f"compare-{scene.removeprefix('forced-')}"] = table(study, scene)
+    for model in ("beta", "rayleigh-5k"):
+        out[f"contact-loss-{model}"] = contact_loss_table(study, model)
+    out["threshold"] = threshold_table(study)
+    out["finer-reference"] = finer_table(study)
+    return out
+
+
+def plots(study, out):
     for q in QUANTITIES:
         panels = [s for m in MODELS for s in (f"{sc}/{m}" for sc in SCENES) if s in study.scenes
                   and study.select(s, q, FINEST)]
@@ -241,22 +336,16 @@ def main():
             sp.work_precision(study, out, panels, [q] * len(panels), f"damping_wp_{q}.png",
                               f"Work-precision per damping model: {sp.md_name(q)}", dpi=75)
     contact_loss_plot(study, out)
-    generated = [BEGIN, "",
-                 f"Runs: {len(study.rows) // len(set(r['quantity'] for r in study.rows))}, "
-                 f"{sum(r['wall_s'] for r in study.rows if r['quantity'] == 'mean_energy_J'):.0f} s "
-                 "of wall time in all (the sum of the runs' wall times).", ""]
-    for scene in SCENES:
-        if any(s.startswith(scene + "/") for s in study.scenes):
-            generated += table(study, scene) + [""]
-    for model in ("beta", "rayleigh-5k"):
-        if any(f"{s}/{model}" in study.scenes for s in SCENES):
-            generated += contact_loss_table(study, model) + [""]
-    generated.append(END)
-    page = out / "damping.md"
-    text = page.read_text() if page.exists() else f"# Damping study\n\n{BEGIN}\n{END}\n"
-    head, _, rest = text.partition(BEGIN)
-    _, _, tail = rest.partition(END)
-    page.write_text(head + "\n".join(generated) + tail)
+
+
+def main():
+    """Plots (with their data) and the tables of DIR/damping.md; `--tables-only` writes the
+    tables alone (the check that the committed tables follow from the committed CSVs)."""
+    out = Path(sys.argv[1])
+    study = load(out)
+    if "--tables-only" not in sys.argv[2:]:
+        plots(study, out)
+    pages.fill(out / "damping.md", tables(study), MODULE)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,105 @@
+//! The damping study's summaries in docs/studies.md and README.md.
+
+use super::*;
+
+/// The damping study's paragraph of docs/studies.md.
+pub fn brief(c: &mut Claims) {
+    let study = Study::load();
+    let d = &study;
+    let runs = d.csv.select("quantity=mean_energy_J");
+    let wall: f64 = runs.iter().map(|r| r.number("wall_s")).sum();
+    c.value("The committed run: {326} runs", runs.len() as f64);
+    c.value("{84} min of run wall time here", wall / 60.0);
+    let (_, mesh) = reference_checks(d, "beta");
+    c.upper("agree within {0.16} %; finer meshes", mesh);
+    c.upper(
+        "mean energy within {1.4} %",
+        d.worst("beta", &SCENES, &FOUR[..1], &PAPER_MESHES, &[1e-4]),
+    );
+    let h = Headline::of(d);
+    c.value(
+        "move the 35 Hz RMS base force by up to {1.05} %",
+        h.finer_moving,
+    );
+    c.upper("the rest by at most {0.09} %)", h.finer_steady);
+    c.upper("gives {0.3} % on FVS 14 × 10", h.fvs_1e5);
+    c.value("({1.04} % on Argyris 10 × 7)", h.argyris_1e5);
+    let low = |q: &str| d.worst("beta", &["forced-35hz"], &[q], &PAPER_MESHES, &[1e-4]);
+    c.upper("only within {5.6} % (mean)", low("mean_abs_base_force_N"));
+    c.upper("and {9.5} % (RMS)", low("rms_base_force_N"));
+    let q = "contact_loss_per_period_J";
+    c.value(
+        "falls about {14}-fold at 35 Hz",
+        d.value("forced-35hz", "beta", q, "argyris:10x7", 1e-4)
+            / d.value("forced-35hz", "beta", q, "argyris:10x7", 1e-7),
+    );
+}
+
+/// The damping study's bullets of README.md.
+pub fn readme(c: &mut Claims) {
+    let study = Study::load();
+    let d = &study;
+    c.given(&[
+        "ζ₁ = 1 %",
+        "Δt = 1e-5 s",
+        "4 s simulated",
+        "Δt = 1e-4 s",
+        "60 Hz",
+        "35 Hz",
+        "1e-6 s",
+        "5 or 20 kHz",
+        "1 kHz",
+    ]);
+    c.value(
+        "`damping.stiffness_proportional` = {5.913e-5} s",
+        setting("beta", "damping.stiffness_proportional"),
+    );
+    let h = Headline::of(d);
+    c.upper("`base.force` within {0.3} % of the reference", h.fvs_1e5);
+    c.value("at {4.5} s per", h.wall_fvs);
+    c.value("(Argyris 10 × 7: within {1.04} %", h.argyris_1e5);
+    c.value("1.04 %, {5.3} s)", h.wall_argyris);
+    c.range("Δt = 1e-4 s ({0.7}–{1.3} s)", &h.walls_paper);
+    let at_paper = |scenes: &[&str], quantities: &[&str]| {
+        d.worst("beta", scenes, quantities, &PAPER_MESHES, &[1e-4])
+    };
+    c.upper(
+        "the mean energy is within {1.35} %",
+        at_paper(&SCENES, &FOUR[..1]),
+    );
+    c.value("the RMS corner {1.82} %", at_paper(&SCENES, &FOUR[1..2]));
+    c.value(
+        "force {1.84} % at 60 Hz",
+        at_paper(&SCENES[1..], &FOUR[2..]),
+    );
+    c.values(
+        "it is {5.5} % (mean) and {9.4} % (RMS) low at 35 Hz",
+        &["mean_abs_base_force_N", "rms_base_force_N"]
+            .map(|q| -d.error("forced-35hz", "beta", q, "fvs:14x10", 1e-4)),
+    );
+    let (_, mesh) = reference_checks(d, "beta");
+    c.upper("FVS 14 × 10 within {0.16} %", mesh);
+    c.upper("confirm it within {0.09} % except", h.finer_steady);
+    let (argyris, fvs) = limits(d);
+    c.range("limit {2.4}–{3.7} % higher", &[argyris, fvs]);
+    c.upper(
+        "converges within {1} % at 60 Hz",
+        d.worst(
+            "rayleigh-1k",
+            &["forced-60hz"],
+            &FOUR,
+            &FINER,
+            &[1e-5, 1e-6],
+        ),
+    );
+    c.value(
+        "Argyris 10 × 7 stays {5.5} % above",
+        d.error(
+            "forced-35hz",
+            "rayleigh-1k",
+            "mean_energy_J",
+            "argyris:10x7",
+            1e-6,
+        ),
+    );
+}

@@ -1,0 +1,20 @@
+//! The claims of README.md: its accuracy bullets, from the damping study's CSVs.
+
+use super::claims::Claims;
+use super::damping;
+
+pub fn claims() -> Claims {
+    let mut c = Claims::new("README.md");
+    c.only_section(
+        "Accuracy and speed",
+        "the README's other sections are the front door (commands, quick starts, variables, \
+         platforms, layout, limits): settings and measured limits, not study results",
+    );
+    c.skip_block(
+        "- **Speed**",
+        "µs per step, measured alternated by benches/paper_speed.rs (docs/speed.md), not a study",
+    );
+    c.skip_block("| regime |", "the speed table of the bullet above");
+    damping::readme(&mut c);
+    c
+}

@@ -1,0 +1,158 @@
+//! The runs of a statistics-type study (`statistics.csv`, `damping.csv`) and the definitions its
+//! documents use, restated here from their prose so that a claim computes what the prose says:
+//! two values *agree* within 2σ of their difference; a quantity has *settled* on a mesh from the
+//! largest Δt from which every smaller Δt agrees with the smallest; the *error* of a run against a
+//! reference is |v − v_ref|/|v_ref| with the uncertainty 2·√(σ² + σ_ref²)/|v_ref|.
+
+use super::data::table;
+
+/// One row: a statistic of one run.
+#[derive(Clone, Debug)]
+pub struct Run {
+    /// The scene, `scene/damping` in the damping study.
+    pub scene: String,
+    pub quantity: String,
+    /// `element:NXxNY`, e.g. `argyris:10x7`.
+    pub mesh: String,
+    pub dt: f64,
+    pub omega_max_dt: f64,
+    pub value: f64,
+    pub spread: f64,
+    pub wall_s: f64,
+}
+
+/// Every row of a study's CSV.
+pub struct Runs {
+    pub rows: Vec<Run>,
+}
+
+impl Runs {
+    /// The rows of the CSV at `path`; with a `damping` column, the scene is `scene/damping`.
+    pub fn load(path: &str) -> Runs {
+        let t = table(path);
+        let with_damping = t.has_column("damping");
+        let rows = t
+            .select("")
+            .iter()
+            .map(|r| Run {
+                scene: if with_damping {
+                    format!("{}/{}", r.text("scene"), r.text("damping"))
+                } else {
+                    r.text("scene").to_string()
+                },
+                quantity: r.text("quantity").to_string(),
+                mesh: format!("{}:{}x{}", r.text("element"), r.text("nx"), r.text("ny")),
+                dt: r.number("dt"),
+                omega_max_dt: r.number("omega_max_dt"),
+                value: r.number("value"),
+                spread: r.number("spread"),
+                wall_s: r.number("wall_s"),
+            })
+            .collect();
+        Runs { rows }
+    }
+
+    /// The runs of `scene` and `quantity` on `mesh`, by decreasing Δt (a failure when none).
+    pub fn select(&self, scene: &str, quantity: &str, mesh: &str) -> Vec<&Run> {
+        let mut runs: Vec<&Run> = self
+            .rows
+            .iter()
+            .filter(|r| r.scene == scene && r.quantity == quantity && r.mesh == mesh)
+            .collect();
+        assert!(!runs.is_empty(), "no run of {scene} {quantity} on {mesh}");
+        runs.sort_by(|a, b| b.dt.total_cmp(&a.dt));
+        runs
+    }
+
+    /// The run at Δt = `dt`.
+    pub fn at(&self, scene: &str, quantity: &str, mesh: &str, dt: f64) -> &Run {
+        self.select(scene, quantity, mesh)
+            .into_iter()
+            .find(|r| (r.dt / dt - 1.0).abs() < 1e-9)
+            .unwrap_or_else(|| panic!("no run of {scene} {quantity} on {mesh} at Δt = {dt}"))
+    }
+
+    /// The value at Δt = `dt`.
+    pub fn value(&self, scene: &str, quantity: &str, mesh: &str, dt: f64) -> f64 {
+        self.at(scene, quantity, mesh, dt).value
+    }
+
+    /// The run at the mesh's smallest Δt.
+    pub fn smallest(&self, scene: &str, quantity: &str, mesh: &str) -> &Run {
+        self.select(scene, quantity, mesh)
+            .pop()
+            .expect("select returns runs")
+    }
+
+    /// The run from which every smaller Δt on the mesh agrees with the smallest-Δt run.
+    pub fn settled(&self, scene: &str, quantity: &str, mesh: &str) -> Option<&Run> {
+        let runs = self.select(scene, quantity, mesh);
+        let last = runs[runs.len() - 1];
+        let mut start = None;
+        for r in runs[..runs.len() - 1].iter().rev() {
+            if !agree(r, last) {
+                break;
+            }
+            start = Some(*r);
+        }
+        start
+    }
+
+    /// The runs of the forced scenes' `quantity` on `mesh` whose settling point exists, for
+    /// every scene of `scenes` and mesh of `meshes`: (settled run, how many cases were tried).
+    pub fn settling<'a>(
+        &'a self,
+        scenes: &[&str],
+        quantities: &[&str],
+        meshes: &[&str],
+    ) -> (Vec<&'a Run>, usize) {
+        let mut found = Vec::new();
+        let mut tried = 0;
+        for s in scenes {
+            for q in quantities {
+                for m in meshes {
+                    tried += 1;
+                    found.extend(self.settled(s, q, m));
+                }
+            }
+        }
+        (found, tried)
+    }
+}
+
+/// Whether `a` and `b` agree within 2σ of their difference.
+pub fn agree(a: &Run, b: &Run) -> bool {
+    (a.value - b.value).abs() <= 2.0 * a.spread.hypot(b.spread)
+}
+
+/// The error of `r` against `reference`, relative, and its 2σ uncertainty, both in percent.
+pub fn error(r: &Run, reference: &Run) -> (f64, f64) {
+    let scale = reference.value.abs();
+    (
+        100.0 * (r.value - reference.value).abs() / scale,
+        100.0 * 2.0 * r.spread.hypot(reference.spread) / scale,
+    )
+}
+
+/// The least-squares slope of log y against log x.
+pub fn fit_slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let lx: Vec<f64> = points.iter().map(|p| p.0.ln()).collect();
+    let ly: Vec<f64> = points.iter().map(|p| p.1.ln()).collect();
+    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
+    let sxx: f64 = lx.iter().map(|x| (x - mx).powi(2)).sum();
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    sxy / sxx
+}
+
+/// The median of `xs`.
+pub fn median(xs: &[f64]) -> f64 {
+    let mut xs = xs.to_vec();
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    if n % 2 == 1 {
+        xs[n / 2]
+    } else {
+        0.5 * (xs[n / 2 - 1] + xs[n / 2])
+    }
+}
