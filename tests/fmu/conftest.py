@@ -80,6 +80,16 @@ def _dispatch(env, _instance, status, category, message):
 _LOGGER = fmi2CallbackLoggerTYPE(_dispatch)
 
 
+def reinstall_session_logger():
+    """Points fmpy's logger proxy back at the session's logger. `simulate_fmu(..., logger=f)`
+    installs a logger of its own that lives only as long as that call; an FMI 2.0 instance made
+    later with fmpy's default callbacks would call it after it is freed (a crash, seen as a bus
+    error). A test that passes a logger to simulate_fmu calls this afterwards."""
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = _LOGGER
+    addLoggerProxy(byref(callbacks))
+
+
 class Plate:
     """One FMU instance driven through fmpy's low-level FMU2Slave, collecting logged messages."""
 

@@ -17,7 +17,7 @@ import subprocess
 import pytest
 from fmpy import read_model_description, simulate_fmu
 
-from conftest import scene_start_values
+from conftest import reinstall_session_logger, scene_start_values
 
 ADVICE = "impact statistics may not converge"
 
@@ -34,7 +34,11 @@ def test_the_default_experiment_returns_ok_from_every_call(fmu):
         status, category, message = args[-3:]
         messages.append((status, category.decode(), message.decode()))
 
-    result = simulate_fmu(fmu, fmi_call_logger=calls.append, logger=logger, debug_logging=False)
+    try:
+        result = simulate_fmu(fmu, fmi_call_logger=calls.append, logger=logger,
+                              debug_logging=False)
+    finally:
+        reinstall_session_logger()
     md = read_model_description(fmu)
     stop = float(md.defaultExperiment.stopTime)
     assert result["time"][-1] == pytest.approx(stop, abs=1e-12)
