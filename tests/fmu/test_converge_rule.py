@@ -186,6 +186,17 @@ def test_an_order_beyond_belief_is_no_extrapolation():
     assert rule.judge([8.62317, 8.60807, 8.60926], [1e-5] * 3, ratios, TOL).accepted
 
 
+def test_the_other_ladders_bound_counts_against_the_tolerance():
+    """A Δt triple whose own bound is 0.85 % of the value (the RMS corner of the documented
+    example on Argyris 14 × 8) passes alone and fails when the mesh ladder ending at the same
+    setting already takes 0.16 %: the sum of the two bounds must be within the tolerance."""
+    values, spreads = [0.00692598, 0.00685871, 0.00682145], [3e-8] * 3
+    alone = rule.judge(values, spreads, (2, 2), TOL)
+    assert alone.accepted and 0.008 < alone.bound / values[-1] < 0.009
+    j = rule.judge(values, spreads, (2, 2), TOL, taken=1.06e-5)
+    assert not j.accepted and j.why == "the error bound exceeds the tolerance"
+
+
 def test_the_order_solves_unequal_ratios():
     """v = 1 + h^1.7 on cell sizes 1, 1/1.5, 1/(1.5·1.6): the order solved from the two changes
     and the two ratios is 1.7, and log_r(d₁/d₂) for equal ratios."""

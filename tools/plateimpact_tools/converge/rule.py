@@ -13,7 +13,8 @@ accepts v_c when
 2. the changes shrink: when d₂ is significant, d₁ is significant too and larger (a change that
    appears after a flat pair, or grows, is no convergence: a plateau-then-jump or a branch
    switch);
-3. its error bound is within the tolerance: B ≤ tol·|v_c| (below);
+3. its error bound is within the tolerance: B ≤ tol·|v_c| (below), or with the bound of the
+   other kind of ladder (Δt or mesh) that ends at the same setting, their sum;
 4. the first pair agrees too, |d₁| + 2σ_d₁ ≤ tol·|v_c|, unless both changes are significant, of
    one sign, and the order p they show may be trusted: p ≤ P_TRUST, and `extrapolate` (the study
    trusts an order where the FMU does not warn at any of the three settings, the regime in which
@@ -93,11 +94,13 @@ def observed_order(d1, d2, r1, r2):
     return 0.5 * (lo + hi)
 
 
-def judge(values, spreads, ratios, tolerance, extrapolate=True):
+def judge(values, spreads, ratios, tolerance, extrapolate=True, taken=0.0):
     """The rule (module docs) on a ladder's last three settings: `values` v_a, v_b, v_c,
     `spreads` their 1σ, `ratios` (r₁, r₂) the refinement ratios a → b and b → c (2 for halving
     Δt; the ratio of the cell sizes for a mesh), `tolerance` relative; `extrapolate`: whether an
-    observed order may stand in for the first pair's agreement (point 4)."""
+    observed order may stand in for the first pair's agreement (point 4); `taken`: the part of
+    the tolerance (absolute) another bound of v_c already takes (point 3 asks B + taken ≤
+    tol·|v_c|)."""
     (va, vb, vc), (sa, sb, sc), (r1, r2) = values, spreads, ratios
     scale = abs(vc)
     d1, d2 = vb - va, vc - vb
@@ -124,7 +127,7 @@ def judge(values, spreads, ratios, tolerance, extrapolate=True):
     pairs = [(d2, s2)] if trusted else [(d1, s1), (d2, s2)]
     if any(abs(d) + SIGMAS * s > tolerance * scale for d, s in pairs):
         return Judgement(False, bound, order, "a pair disagrees")
-    if bound > tolerance * scale:
+    if bound + taken > tolerance * scale:
         return Judgement(False, bound, order, "the error bound exceeds the tolerance")
     return Judgement(True, bound, order)
 

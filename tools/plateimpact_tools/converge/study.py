@@ -177,13 +177,29 @@ class Study:
         pairs = [state_value(self.stats(s), members, quantity) for s in ladder]
         return [v for v, _ in pairs], [s for _, s in pairs]
 
+    def other_bounds(self, ladder):
+        """{state: {quantity: bound}} of the passing ladder of the other kind (mesh for a Δt
+        ladder, Δt for a mesh ladder) that ends at this ladder's last setting, if one does."""
+        kind = ladder[0][:2] == ladder[-1][:2]  # a Δt ladder keeps its mesh
+        for phase, other in self.ladders:
+            if other is not ladder and other[-1] == ladder[-1] and phase in self.judgements \
+                    and (other[0][:2] == other[-1][:2]) != kind:
+                verdicts = self.judgements[phase][1]
+                if all(j.accepted for per in verdicts.values() for j in per.values()):
+                    return {name: {q: j.bound for q, j in per.items()}
+                            for name, per in verdicts.items()}
+        return {}
+
     def judge(self, ladder):
         """(states at the ladder's last setting, {state name: {quantity: rule.Judgement}}): the
-        rule on the last three settings of each state's ladder (module docs)."""
+        rule on the last three settings of each state's ladder (module docs). Where a passing
+        ladder of the other kind ends at the same setting, its bound counts against this one's:
+        the errors in Δt and in the mesh add, and their sum must be within the tolerance."""
         last = ladder[-1]
         states = self.states_at(last)
         # An observed order is trusted only where the FMU does not warn (`rule`, point 4).
         trusted = not any(self.warning(s) for s in ladder[-SPAN:])
+        other = self.other_bounds(ladder)
         verdicts = {}
         for state in states:
             verdicts[state.name] = {}
@@ -194,8 +210,9 @@ class Study:
                     continue
                 values, spreads = self.state_ladder(ladder[-SPAN:], state.starts, q)
                 ratios = (refinement_ratio(*ladder[-3:-1]), refinement_ratio(*ladder[-2:]))
+                taken = other.get(state.name, {}).get(q, 0.0)
                 verdicts[state.name][q] = rule.judge(values, spreads, ratios, self.tolerance,
-                                                     extrapolate=trusted)
+                                                     extrapolate=trusted, taken=taken)
             signatures = {impacting(self.stats(s), state.starts) for s in ladder[-SPAN:]}
             if len(signatures) > 1 or len(set(next(iter(signatures)))) > 1:
                 for q, j in verdicts[state.name].items():
