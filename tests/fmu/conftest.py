@@ -23,6 +23,14 @@ from plateimpact_tools import ROOT, SCENES  # noqa: F401 (the tests' names)
 from plateimpact_tools.scene_values import scene as scene_start_values  # noqa: F401
 
 
+def pytest_configure(config):
+    """The marker `slow`: a test that runs whole convergence studies through the FMU (minutes on
+    the 2-core machine). The full suite (`pytest tests/fmu`, scripts/test-all) runs them; a quick
+    loop leaves them out with `-m "not slow"`."""
+    config.addinivalue_line(
+        "markers", "slow: minutes of FMU runs; the full suite runs it, -m 'not slow' skips it")
+
+
 @pytest.fixture(scope="session")
 def fmu_path():
     """The FMU built by `cargo run --release --bin package-fmu` (or $PLATE_IMPACT_FMU)."""

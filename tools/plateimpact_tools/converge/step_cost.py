@@ -1,18 +1,19 @@
 """The cost model behind scripts/converge's run-cost estimate (RUN_COST of
-`plateimpact_tools.converge.study`): the packaged FMU's CPU time per internal step and its set-up, per element and linear backend, for
-meshes on both sides of the switch at 2000 free dofs, and the power laws c·(n/1000)^p fitted to
-them in the free dofs n.
+`plateimpact_tools.converge.cost`): the packaged FMU's CPU time per internal step and its set-up,
+per element and linear backend, for meshes on both sides of the switch at 2000 free dofs, and the
+power laws c·(n/1000)^p fitted to them in the free dofs n.
 
     .venv/bin/python -m plateimpact_tools.converge.step_cost [--fmu target/fmu/PlateImpact.fmu]
 
-Each mesh runs the preset forced-35hz-damped at Δt = h = 1e-4 s through converge.run_setting (the
-study's own runs, reading its outputs at every step) twice, one after the other in this process:
-2000 steps, and 2000 + E steps (E = 20 000 on the modal backend, 4000 on the sparse one). Per
-internal step the CPU difference over the E steps; less the cost of one communication step with
-its reads, taken as that of the Argyris 2 × 1 mesh, this is the step's own cost. The set-up is
-the short run's CPU less its 2000 steps (on the sparse backend it is small against the steps and
-the first steps, with fewer contacts, are cheaper: the model leaves it out). About 3 CPU minutes
-on a 2-core development machine. Prints a CSV row per mesh, then RUN_COST to stderr.
+Each mesh runs the preset forced-35hz-damped at Δt = h = 1e-4 s through runs.run_setting from the
+abrupt start (the study's own runs, reading its outputs at every step) twice, one after the other
+in this process: 2000 steps, and 2000 + E steps (E = 20 000 on the modal backend, 4000 on the
+sparse one). Per internal step the CPU difference over the E steps; less the cost of one
+communication step with its reads, taken as that of the Argyris 2 × 1 mesh, this is the step's own
+cost. The set-up is the short run's CPU less its 2000 steps (on the sparse backend it is small
+against the steps and the first steps, with fewer contacts, are cheaper: the model leaves it out).
+About 3 CPU minutes on a 2-core development machine. Prints a CSV row per mesh, then RUN_COST to
+stderr.
 """
 
 import argparse
@@ -20,8 +21,8 @@ import hashlib
 import math
 import sys
 
-from plateimpact_tools import DEFAULT_FMU, SCENES
-from plateimpact_tools.converge import study as converge
+from plateimpact_tools import DEFAULT_FMU, SCENES, scene_values
+from plateimpact_tools.converge import runs
 from plateimpact_tools.converge.cost import plate_size
 
 # (element, nx, ny): Argyris (1) and FVS (2), modal up to 2000 free dofs and sparse above.
@@ -47,7 +48,7 @@ def measure(fmu, blob, digest, scene, element, nx, ny):
     step at h = Δt)."""
     values = dict(scene, **{"mesh.element": element, "mesh.nx": nx, "mesh.ny": ny})
     n, kind = plate_size(fmu, values)
-    cpu = [converge.run_setting(blob, digest, values, DT, 0, steps // 2, 2)[1]
+    cpu = [runs.run_setting(blob, digest, values, runs.Start("abrupt"), DT, 0, steps // 2, 2)[1]
            for steps in (SHORT, SHORT + EXTRA[kind])]
     return kind, n, cpu[0], 1e6 * (cpu[1] - cpu[0]) / EXTRA[kind]
 
@@ -58,7 +59,7 @@ def main():
     args = parser.parse_args()
     blob = open(args.fmu, "rb").read()
     digest = hashlib.sha256(blob).hexdigest()
-    scene = converge.load_scene(SCENES / "forced-35hz-damped.json")
+    scene = scene_values.read(SCENES / "forced-35hz-damped.json")[0]
     scene["solver.time_step"] = DT
     overhead = measure(args.fmu, blob, digest, scene, *TINY)[3]
     print(f"# one communication step with its reads (Argyris 2 x 1): {overhead:.2f} us")

@@ -51,6 +51,7 @@ import time
 import numpy as np
 
 from plateimpact_tools import DEFAULT_FMU, ROOT
+from plateimpact_tools.converge.states import differ
 from plateimpact_tools.fmu_dask import dask_client, fmu_dir, run_tasks
 from plateimpact_tools.plotting import pyplot, save
 from plateimpact_tools.scene_values import ELEMENT, parse_value
@@ -402,12 +403,14 @@ BRANCH_SIGMAS = 3.0
 
 
 def branches_differ(up, down):
-    """Whether the up and down rows of one frequency show different responses."""
-    mean = 0.5 * (up["rms_corner_m"] + down["rms_corner_m"])
-    sigma = math.hypot(up["rms_corner_spread_m"], down["rms_corner_spread_m"])
-    gap = abs(up["rms_corner_m"] - down["rms_corner_m"])
-    return (gap > max(BRANCH_TOLERANCE * mean, BRANCH_SIGMAS * sigma)
-            or (up["impacts_per_period"] > 0) != (down["impacts_per_period"] > 0))
+    """Whether the up and down rows of one frequency show different responses: the test that
+    tells the steady states of scripts/converge apart (`converge.states.differ`), on the RMS
+    corner with BRANCH_TOLERANCE and BRANCH_SIGMAS."""
+    def stats(row):
+        return {"impact_rate": (row["impacts_per_period"], 0.0),
+                "rms_corner": (row["rms_corner_m"], row["rms_corner_spread_m"])}
+
+    return differ(stats(up), stats(down), ["rms_corner"], BRANCH_TOLERANCE, BRANCH_SIGMAS)
 
 
 def hysteresis(rows):
