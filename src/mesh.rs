@@ -6,7 +6,7 @@
 //! number of vertices) of cell c. The global orientation is what makes the Argyris edge dofs
 //! (normal derivatives) agree between the two cells that share an edge.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 /// The shape of every cell of a mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,7 +49,10 @@ impl Mesh {
     /// If a cell has the wrong number of vertices, a vertex id is out of range, or a cell is not
     /// counter-clockwise with positive area (these are programming errors, not user input).
     pub fn new(vertices: Vec<[f64; 2]>, shape: CellShape, cells: Vec<Vec<usize>>) -> Mesh {
-        let mut edge_ids: HashMap<[usize; 2], usize> = HashMap::new();
+        // Ordered, not hashed: a HashMap's per-process random keys change its probing from run
+        // to run, and with it the coverage the fuzz targets see, so that a fuzz run with a fixed
+        // seed would not try the same inputs twice (docs/fuzzing.md).
+        let mut edge_ids: BTreeMap<[usize; 2], usize> = BTreeMap::new();
         let mut edges = Vec::new();
         let mut cell_edges = Vec::with_capacity(cells.len());
         for cell in &cells {

@@ -1,4 +1,5 @@
-//! Builds both FMUs into `target/fmu/` (the target directory follows `CARGO_TARGET_DIR`):
+//! Builds both FMUs into `target/fmu/` (the target directory follows `CARGO_TARGET_DIR`; the
+//! release builds' own can be elsewhere, `PLATE_IMPACT_CROSS_TARGET_DIR`):
 //! * `PlateImpact.fmu`, FMI 2.0 Co-Simulation: `modelDescription.xml` (from
 //!   `modelDescription/modelDescription.xml`) and its binaries under `binaries/linux64/` and
 //!   `binaries/win64/` (FMI 2.0 §2.3);
@@ -319,7 +320,7 @@ fn debian_rustc_version() -> String {
         .unwrap_or_else(|e| format!("rustc --version failed: {e}"))
 }
 
-/// The release builds, one binary per platform.
+/// The release builds, one binary per platform, under the cargo target directory `target`.
 fn release_binaries(root: &Path, target: &Path) -> Result<Vec<Binary>, String> {
     let tools = Tools::find(root)?;
     PLATFORMS
@@ -467,6 +468,17 @@ fn check_version() -> Result<&'static str, String> {
     Ok(version)
 }
 
+/// Where the release builds keep their cargo target directories: `PLATE_IMPACT_CROSS_TARGET_DIR`
+/// when set (CI points it at a cache outside the clone, reused by later runs on the same machine:
+/// cargo's fingerprints decide what is rebuilt, docs/testing.md), else the target directory; a
+/// relative path is relative to the repository root, as for `CARGO_TARGET_DIR`.
+fn cross_target_dir(root: &Path, target: &Path) -> PathBuf {
+    std::env::var_os("PLATE_IMPACT_CROSS_TARGET_DIR")
+        .filter(|dir| !dir.is_empty())
+        .map(|dir| root.join(dir))
+        .unwrap_or_else(|| target.to_path_buf())
+}
+
 fn run() -> Result<Vec<PathBuf>, String> {
     let options = options()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -481,7 +493,7 @@ fn run() -> Result<Vec<PathBuf>, String> {
         .map(|t| if t.is_absolute() { t } else { root.join(t) })
         .unwrap_or_else(|| root.join("target"));
     let binaries = if options.all_platforms {
-        release_binaries(root, &target)?
+        release_binaries(root, &cross_target_dir(root, &target))?
     } else {
         vec![host_binary(root, &target)?]
     };
