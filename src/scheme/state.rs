@@ -1,10 +1,10 @@
-//! The serializable dynamic state of a stepper, for FMU get/set/serialize, and its checks: a
-//! state is untrusted input, and [`Stepper::restore`](super::Stepper::restore) adopts only a
+//! The serializable dynamic state of a stepper, for FMU get/set/serialize, and its checks (among
+//! them [`check_base`], which every step applies to its new base value too): a state is untrusted
+//! input, and [`Stepper::restore`](super::Stepper::restore) adopts only a
 //! [`CheckedState`], which [`Model::check`] alone makes.
 
 use super::backend::LinearBackend;
 use super::energy::{DiscreteEnergy, EnergyFlows};
-use super::stepper::check_base;
 use super::FreeSystem;
 use crate::contact::BoundState;
 use crate::error::Error;
@@ -351,6 +351,23 @@ impl Model<'_> {
             .fold(0.0, f64::max);
         let dt = scene.solver.time_step;
         RESTORE_FORCE_TOLERANCE * largest_diagonal * scene.gap() / (dt * dt)
+    }
+}
+
+/// The base must stay strictly inside the gap (docs/model.md).
+pub(super) fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
+    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+    let inside =
+        base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
+    if inside {
+        Ok(())
+    } else {
+        Err(Error::BaseOutsideGap {
+            time,
+            base,
+            lower,
+            upper,
+        })
     }
 }
 

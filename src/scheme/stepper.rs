@@ -10,7 +10,9 @@ use super::energy::EnergyFlows;
 use super::impact::{Law, VertexHistory};
 use super::outputs::Outputs;
 use super::preload::static_preload;
-use super::state::{state_code, CheckedState, LevelOutside, Model, State, StoredLevels};
+use super::state::{
+    check_base, state_code, CheckedState, LevelOutside, Model, State, StoredLevels,
+};
 pub use super::state::{RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE};
 use super::FreeSystem;
 use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
@@ -18,7 +20,6 @@ use crate::contact::{BoundState, PdasSettings};
 use crate::error::Error;
 use crate::scene::{LinearChoice, ObstacleSide, Scene};
 use crate::system::PlateSystem;
-pub(super) use guards::check_base;
 use paths::{Route, Solved};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;

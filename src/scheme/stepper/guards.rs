@@ -1,10 +1,10 @@
-//! The guards of a step: the base inside the gap, the contact solve's answer within its bounds,
-//! and the overflow tests that refuse a step whose result or outputs are not finite. Each refusal
-//! leaves the stepper unchanged, still at t_n.
+//! The guards of a step: the contact solve's answer within its bounds, and the overflow tests that
+//! refuse a step whose result or outputs are not finite. Each refusal leaves the stepper unchanged,
+//! still at t_n. (The base inside the gap is checked by [`check_base`](super::super::state::check_base).)
 
 use super::{Stepper, TimeLevels};
 use crate::error::Error;
-use crate::scene::{ObstacleSide, Scene};
+use crate::scene::ObstacleSide;
 
 /// Relative tolerance of the bounds on the active-set method's answer, as a fraction of the gap
 /// (g2 − g1, or |g| with one obstacle), before the step accepts it. An exact solve puts an active
@@ -18,23 +18,6 @@ use crate::scene::{ObstacleSide, Scene};
 ///
 /// [`RESTORE_BOUND_TOLERANCE`]: super::RESTORE_BOUND_TOLERANCE
 pub(super) const ACTIVE_SET_BOUND_TOLERANCE: f64 = 1e-9;
-
-/// The base must stay strictly inside the gap (docs/model.md).
-pub(in crate::scheme) fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
-    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let inside =
-        base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
-    if inside {
-        Ok(())
-    } else {
-        Err(Error::BaseOutsideGap {
-            time,
-            base,
-            lower,
-            upper,
-        })
-    }
-}
 
 /// A constrained vertex of a step's answer found past its bound of that step.
 #[derive(Clone, Copy, Debug)]
