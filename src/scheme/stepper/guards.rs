@@ -2,9 +2,11 @@
 //! refuse a step whose result or outputs are not finite. Each refusal leaves the stepper unchanged,
 //! still at t_n. (The base inside the gap is checked by [`check_base`](super::super::state::check_base).)
 
-use super::{Stepper, TimeLevels};
+use super::workspace::Trial;
+use super::Run;
 use crate::error::Error;
 use crate::scene::ObstacleSide;
+use crate::scheme::backend::StepFields;
 
 /// Relative tolerance of the bounds on the active-set method's answer, as a fraction of the gap
 /// (g2 − g1, or |g| with one obstacle), before the step accepts it. An exact solve puts an active
@@ -51,13 +53,18 @@ impl PastBound {
     }
 }
 
-impl Stepper {
-    /// The first constrained vertex of the next level (the contact solve's answer) that lies past
-    /// its bound of this step by more than `tolerance` (m), lower bounds first; a non-finite value
-    /// counts as past.
-    pub(super) fn first_past_bound(&mut self, tolerance: f64) -> Option<PastBound> {
-        self.backend
-            .constrained_values(&self.levels.next, &mut self.solved);
+impl Trial {
+    /// The first constrained vertex of the next level of `fields` (the contact solve's answer)
+    /// that lies past its bound of this step by more than `tolerance` (m), lower bounds first; a
+    /// non-finite value counts as past.
+    pub(super) fn first_past_bound(
+        &mut self,
+        fields: &StepFields,
+        tolerance: f64,
+    ) -> Option<PastBound> {
+        fields
+            .maps
+            .constrained_values(fields.next, &mut self.solved);
         let solved = &self.solved;
         let find = |side, bound: &[f64], inside: &dyn Fn(f64, f64) -> bool| {
             (0..solved.len())
@@ -78,14 +85,16 @@ impl Stepper {
             })
         })
     }
+}
 
+impl Run {
     /// Whether the outputs after a step to `base_next`, whose new field has squared norm
     /// `norm_squared` and whose contact forces sum to `force_magnitude` in absolute value, are
     /// finite for certain: each output is a sum of at most five products of at most three factors,
-    /// each factor bounded by c·N ([`LinearBackend::magnitude_scale`]) or by the largest of the
+    /// each factor bounded by c·N ([`FieldMaps::magnitude_scale`]) or by the largest of the
     /// base and load data; below 1e100 for all of them, no output can reach 1e308.
     ///
-    /// [`LinearBackend::magnitude_scale`]: super::LinearBackend::magnitude_scale
+    /// [`FieldMaps::magnitude_scale`]: crate::scheme::backend::FieldMaps::magnitude_scale
     fn outputs_provably_finite(
         &self,
         norm_squared: f64,
@@ -110,11 +119,12 @@ impl Stepper {
         fields <= 1e100 && data.iter().all(|&v| v <= 1e100)
     }
 
-    /// Refuses a step whose energy or outputs after it would not be finite. Cheap when
-    /// [`Stepper::outputs_provably_finite`] proves them finite; otherwise they are evaluated, at
-    /// O(n).
+    /// Refuses a step whose energy or outputs after it (its next level in `fields`) would not be
+    /// finite. Cheap when [`Run::outputs_provably_finite`] proves them finite; otherwise they are
+    /// evaluated, at O(n).
     pub(super) fn guard_outputs(
         &self,
+        fields: &StepFields,
         norm_squared: f64,
         base_next: f64,
         t_next: f64,
@@ -123,12 +133,15 @@ impl Stepper {
         if self.outputs_provably_finite(norm_squared, base_next, force_magnitude) {
             return Ok(());
         }
-        let TimeLevels { current, next, .. } = &self.levels;
         let z_curr = self.base[1];
         let p_next = self.scene.load.pressure;
-        let (energy, values) =
-            self.model()
-                .energy_and_values(current, next, [z_curr, base_next], p_next, false);
+        let (energy, values) = self.model(fields.maps).energy_and_values(
+            fields.current,
+            fields.next,
+            [z_curr, base_next],
+            p_next,
+            false,
+        );
         let reported = [
             energy.kinetic,
             energy.elastic,
