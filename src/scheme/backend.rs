@@ -15,8 +15,9 @@
 //!      backend's part, or an [`Unproven`](stages::Unproven) stage;
 //!   3. [`Unproven::values`](stages::Unproven::values): the values y* = Bw* the contact solve
 //!      starts from, exact wherever the backend cannot prove them inside the bounds
-//!      ([`Prediction::exact_values`] and [`Unproven::exact_values`](stages::Unproven::exact_values)
-//!      evaluate them all exactly): a [`Values`] stage, which may end there;
+//!      ([`Prediction::exact_values`] and
+//!      [`Unproven::exact_values`](stages::Unproven::exact_values) evaluate them all exactly): a
+//!      [`Values`] stage, which may end there;
 //!   4. [`Values::solve`]: the contact solve, whose [`Correction`] holds the exact minimiser in
 //!      the next level, its multipliers μ and, used once, their work μᵀB(x − y).
 //!

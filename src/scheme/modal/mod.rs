@@ -14,8 +14,9 @@
 //! (C_L q_L)_i lies inside its bounds by more than that remainder (plus a round-off margin), the
 //! step is proven contact-free at the cost of an m × l product instead of m × n; only steps near
 //! an obstacle pay for the full product. The test runs for l = 4, 8, 16, 32 in turn
-//! ([`SCREENING_LEVELS`](data::SCREENING_LEVELS)), each level adding its modes' columns to the partial product of the one
-//! before, and stops at the first level that proves the step: the remainder bound of a level is
+//! ([`SCREENING_LEVELS`](data::SCREENING_LEVELS)), each level adding its modes' columns to the
+//! partial product of the one before, and stops at the first level that proves the step: the
+//! remainder bound of a level is
 //! never tighter than the next level's (Cauchy–Schwarz over the union of the blocks), so the
 //! levels decide exactly what the last one alone would, and a plate away from the obstacles
 //! costs an m × 4 product per step. After a prediction that every level failed, the next one

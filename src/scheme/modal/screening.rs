@@ -21,7 +21,8 @@ pub(super) struct Screening {
     /// The last proof's reference and its reach.
     pub(super) reach: Reach,
     /// Whether every screening level failed on the last prediction that the reach did not
-    /// cover: the next prediction then tries the last level first ([`Screening::last_level_fails`]).
+    /// cover: the next prediction then tries the last level first
+    /// ([`Screening::last_level_fails`]).
     pub(super) near: bool,
     /// Per vertex: whether its value handed to the contact solve is the stand-in, the last
     /// screening level's low-mode part ŷ_i, with |y*_i − ŷ_i| ≤ `slack[i]`.

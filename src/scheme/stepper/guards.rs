@@ -1,6 +1,7 @@
 //! The guards of a step: the contact solve's answer within its bounds, and the overflow tests that
 //! refuse a step whose result or outputs are not finite. Each refusal leaves the stepper unchanged,
-//! still at t_n. (The base inside the gap is checked by [`check_base`](super::super::state::check_base).)
+//! still at t_n. (The base inside the gap is checked by
+//! [`check_base`](super::super::state::check_base).)
 
 use super::workspace::Trial;
 use super::Run;

@@ -197,38 +197,38 @@ impl Run {
         let tolerance = ACTIVE_SET_BOUND_TOLERANCE * self.scene.gap();
         trial.states.copy_from_slice(&self.states);
         let settings = &self.active_set_settings;
-        let (failure, fields) =
-            match values.solve(&trial.lower, &trial.upper, &mut trial.states, settings)? {
-                // The method's own test keeps its y within `bound_tolerance` of the bounds, and the
-                // field's constrained values agree with its y to round-off far below that (about 3nε
-                // of the same scale, against its tol = 1e-11): when `bound_tolerance` is below the
-                // tolerance, the check's O(mn) product (modal backend) is not needed. It is above
-                // when the data's scale is over 100 times the gap's, as at the huge loads whose
-                // answer may be garbage.
-                Solve::Solved(correction) if correction.report().bound_tolerance <= tolerance => {
-                    return Ok(active_set(correction))
-                }
-                Solve::Solved(correction) => {
-                    match trial.first_past_bound(correction.fields(), tolerance) {
-                        None => return Ok(active_set(correction)),
-                        Some(past) => (
-                            format!(
-                                "the active-set method reported a solution with {}",
-                                past.describe(tolerance)
-                            ),
-                            correction.reject(),
+        let solve = values.solve(&trial.lower, &trial.upper, &mut trial.states, settings)?;
+        let (failure, fields) = match solve {
+            // The method's own test keeps its y within `bound_tolerance` of the bounds, and
+            // the field's constrained values agree with its y to round-off far below that
+            // (about 3nε of the same scale, against its tol = 1e-11): when `bound_tolerance`
+            // is below the tolerance, the check's O(mn) product (modal backend) is not
+            // needed. It is above when the data's scale is over 100 times the gap's, as at
+            // the huge loads whose answer may be garbage.
+            Solve::Solved(correction) if correction.report().bound_tolerance <= tolerance => {
+                return Ok(active_set(correction))
+            }
+            Solve::Solved(correction) => {
+                match trial.first_past_bound(correction.fields(), tolerance) {
+                    None => return Ok(active_set(correction)),
+                    Some(past) => (
+                        format!(
+                            "the active-set method reported a solution with {}",
+                            past.describe(tolerance)
                         ),
-                    }
-                }
-                Solve::Failed { report, fields } => (
-                    format!(
-                        "the active-set method did not converge ({:?} after {} iterations and {} \
-                     safeguard iterations)",
-                        report.status, report.iterations, report.safeguard_iterations
+                        correction.reject(),
                     ),
-                    fields,
+                }
+            }
+            Solve::Failed { report, fields } => (
+                format!(
+                    "the active-set method did not converge ({:?} after {} iterations and {} \
+                     safeguard iterations)",
+                    report.status, report.iterations, report.safeguard_iterations
                 ),
-            };
+                fields,
+            ),
+        };
         self.fallback_path(input, fields, trial, failure)
     }
 
