@@ -70,6 +70,17 @@ enum Engine<M, S> {
     Sparse(S),
 }
 
+impl<M, S> Engine<M, S> {
+    /// The next stage of the modal part; the sparse backend's part is the same at every stage
+    /// but the last.
+    fn modal_into<N>(self, next: impl FnOnce(M) -> N) -> Engine<N, S> {
+        match self {
+            Engine::Modal(modal) => Engine::Modal(next(modal)),
+            Engine::Sparse(sparse) => Engine::Sparse(sparse),
+        }
+    }
+}
+
 /// A step whose unconstrained prediction w* = A⁻¹b is in the next level.
 pub(in crate::scheme) struct Prediction<'a> {
     fields: StepFields<'a>,
@@ -148,17 +159,8 @@ impl<'a> Prediction<'a> {
 
     /// The prediction's exact constrained values into `out`, unscreened.
     pub(in crate::scheme) fn exact_values(self, out: &'a mut [f64]) -> Values<'a> {
-        let Prediction { fields, engine, .. } = self;
-        fields.maps.constrained_values(fields.next, out);
-        let engine = match engine {
-            Engine::Modal(predicted) => Engine::Modal(predicted.exact()),
-            Engine::Sparse(step) => Engine::Sparse(step),
-        };
-        Values {
-            fields,
-            values: out,
-            engine,
-        }
+        let engine = self.engine.modal_into(modal::Predicted::exact);
+        Values::exact(self.fields, out, engine)
     }
 }
 
@@ -198,17 +200,8 @@ impl<'a> Unproven<'a> {
 
     /// The prediction's exact constrained values into `out`.
     pub(in crate::scheme) fn exact_values(self, out: &'a mut [f64]) -> Values<'a> {
-        let Unproven { fields, engine, .. } = self;
-        fields.maps.constrained_values(fields.next, out);
-        let engine = match engine {
-            Engine::Modal(unproven) => Engine::Modal(unproven.exact()),
-            Engine::Sparse(step) => Engine::Sparse(step),
-        };
-        Values {
-            fields,
-            values: out,
-            engine,
-        }
+        let engine = self.engine.modal_into(modal::Unproven::exact);
+        Values::exact(self.fields, out, engine)
     }
 }
 
@@ -233,6 +226,20 @@ pub(in crate::scheme) enum Solve<'a> {
 }
 
 impl<'a> Values<'a> {
+    /// The stage with the exact constrained values of the prediction in `fields`, into `out`.
+    fn exact(
+        fields: StepFields<'a>,
+        out: &'a mut [f64],
+        engine: Engine<modal::Valued<'a>, sparse::Step<'a>>,
+    ) -> Values<'a> {
+        fields.maps.constrained_values(fields.next, out);
+        Values {
+            fields,
+            values: out,
+            engine,
+        }
+    }
+
     /// The values y* at the constrained vertices.
     pub(in crate::scheme) fn values(&self) -> &[f64] {
         self.values
