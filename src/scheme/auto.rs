@@ -1,9 +1,9 @@
 //! The choice of the linear backend for a scene, and its construction.
 
 use super::backend::Backend;
+use super::free_system::FreeSystem;
 use super::modal::{FreeDofData, ModalBackend, ModalData};
 use super::sparse::SparseBackend;
-use super::FreeSystem;
 use crate::error::Error;
 use crate::modes::generalized_eigen;
 use crate::scene::{LinearChoice, Scene};

@@ -37,12 +37,12 @@ mod reference;
 mod sparse;
 mod state;
 mod stepper;
+mod sums;
 mod vectors;
 
 pub use crate::backend_choice::{resolve as resolve_linear, MODAL_AUTO_LIMIT};
-pub use backend::{EnergyPieces, FieldSums, StepForcing};
 pub use energy::EnergyFlows;
-pub use free_system::FreeSystem;
+pub use free_system::{FreeSystem, StepForcing};
 pub use impact::{newton_bounds, VertexMotion};
 pub use outputs::Outputs;
 pub use state::State;
@@ -50,3 +50,4 @@ pub use state::MAX_STEP_INDEX;
 pub use stepper::{
     StepPath, StepReport, Stepper, RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE,
 };
+pub use sums::{EnergyPieces, FieldSums};

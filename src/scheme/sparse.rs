@@ -15,8 +15,8 @@
 //! (A or A₀), b and the workspace of its contact solve. The field maps (free functions here, over
 //! the [`FreeSystem`]) are the identity's: a field is w_f itself.
 
-use super::backend::{EnergyPieces, FieldSums, StepForcing};
-use super::free_system::{quadratic, FreeSystem};
+use super::free_system::{quadratic, FreeSystem, StepForcing};
+use super::sums::{EnergyPieces, FieldSums};
 use super::vectors::{dot, sum_of_squares};
 use crate::contact::delassus::DEFAULT_DELASSUS_BUDGET;
 use crate::contact::ordering::nested_dissection;

@@ -5,7 +5,7 @@
 
 use super::backend::FieldMaps;
 use super::energy::{DiscreteEnergy, EnergyFlows};
-use super::FreeSystem;
+use super::free_system::FreeSystem;
 use crate::contact::BoundState;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Outside, Scene};

@@ -14,8 +14,10 @@ mod paths;
 mod workspace;
 
 use super::auto;
-use super::backend::{Backend, FieldMaps, StepForcing, TimeLevels};
+use super::backend::{Backend, FieldMaps, TimeLevels};
 use super::energy::EnergyFlows;
+use super::free_system::FreeSystem;
+use super::free_system::StepForcing;
 use super::impact::{Law, VertexHistory};
 use super::outputs::Outputs;
 use super::preload::static_preload;
@@ -23,7 +25,6 @@ use super::state::{
     check_base, state_code, CheckedState, LevelOutside, Model, State, StoredLevels,
 };
 pub use super::state::{RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE};
-use super::FreeSystem;
 use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
 use crate::contact::{BoundState, PdasSettings};
 use crate::error::Error;

@@ -2,9 +2,10 @@
 //! time levels until the step is over, holds what the step has found so far, and offers only the
 //! calls that may follow (the module docs of [`super`] give the order).
 
-use super::{FieldMaps, FieldSums};
+use super::maps::FieldMaps;
 use crate::contact::{BoundState, PdasReport, PdasSettings};
 use crate::error::Error;
+use crate::scheme::sums::FieldSums;
 use crate::scheme::{modal, sparse};
 
 /// The fields of the three time levels, in the backend's coordinates.

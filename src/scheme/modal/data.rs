@@ -8,7 +8,7 @@ use super::reach::ReachMetric;
 use crate::contact::DenseDelassus;
 use crate::modes::Modes;
 use crate::scene::DampingCoefficients;
-use crate::scheme::backend::{EnergyPieces, FieldSums};
+use crate::scheme::sums::{EnergyPieces, FieldSums};
 use crate::scheme::vectors::{dot, sum_of_squares};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, ColRef, Mat, MatMut, Par};

@@ -44,7 +44,8 @@ mod screening;
 #[cfg(test)]
 mod tests;
 
-use super::backend::{FieldSums, StepForcing};
+use super::free_system::StepForcing;
+use super::sums::FieldSums;
 use correction::Corrector;
 pub(in crate::scheme) use data::{FreeDofData, ModalData};
 use pass::{PassSums, Weights};

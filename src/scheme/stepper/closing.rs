@@ -4,8 +4,8 @@
 use super::paths::Answer;
 use super::{Run, StepInput};
 use crate::error::Error;
-use crate::scheme::backend::FieldSums;
 use crate::scheme::energy::EnergyFlows;
+use crate::scheme::sums::FieldSums;
 
 /// What a step formed after its contact solve, adopted when it is accepted.
 pub(super) struct Closing {

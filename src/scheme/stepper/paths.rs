@@ -7,9 +7,8 @@ use super::{Run, StepInput, StepPath, RESTORE_BOUND_TOLERANCE};
 use crate::contact::BoxQp;
 use crate::error::Error;
 use crate::scene::QpChoice;
-use crate::scheme::backend::{
-    Correction, Prediction, Screened, Solve, StepFields, StepForcing, Values,
-};
+use crate::scheme::backend::{Correction, Prediction, Screened, Solve, StepFields, Values};
+use crate::scheme::free_system::StepForcing;
 use crate::scheme::impact::{newton_bounds, Law, VertexHistory, VertexMotion};
 use crate::scheme::reference::solve_reference;
 
