@@ -72,8 +72,7 @@ enum Engine<M, S> {
 }
 
 impl<M, S> Engine<M, S> {
-    /// The next stage of the modal part; the sparse backend's part is the same at every stage
-    /// but the last.
+    /// The next stage of the modal part; the sparse backend's part is one type at every stage.
     fn modal_into<N>(self, next: impl FnOnce(M) -> N) -> Engine<N, S> {
         match self {
             Engine::Modal(modal) => Engine::Modal(next(modal)),
