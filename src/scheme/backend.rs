@@ -34,6 +34,7 @@ use super::modal::ModalBackend;
 use super::sparse::SparseBackend;
 use crate::error::Error;
 pub(in crate::scheme) use maps::FieldMaps;
+use stages::Engine;
 pub(in crate::scheme) use stages::{
     Correction, Prediction, Screened, Solve, StepFields, TimeLevels, Values,
 };
@@ -80,21 +81,21 @@ impl Backend {
             next,
         } = levels;
         let (previous, current): (&[f64], &[f64]) = (previous, current);
-        Ok(match self {
+        let (maps, sums, engine) = match self {
             Backend::Modal(modal) => {
                 let (sums, predicted) = modal.predict(previous, current, forcing, next);
-                let maps = FieldMaps::Modal(predicted.data());
-                Prediction::modal(
-                    StepFields::new(maps, previous, current, next),
+                (
+                    FieldMaps::Modal(predicted.data()),
                     sums,
-                    predicted,
+                    Engine::Modal(predicted),
                 )
             }
-            Backend::Sparse(backend) => {
-                let (sums, step) = backend.predict(previous, current, forcing, next)?;
-                let maps = FieldMaps::Sparse(step.free());
-                Prediction::sparse(StepFields::new(maps, previous, current, next), sums, step)
+            Backend::Sparse(sparse) => {
+                let (sums, step) = sparse.predict(previous, current, forcing, next)?;
+                (FieldMaps::Sparse(step.free()), sums, Engine::Sparse(step))
             }
-        })
+        };
+        let fields = StepFields::new(maps, previous, current, next);
+        Ok(Prediction::new(fields, sums, engine))
     }
 }

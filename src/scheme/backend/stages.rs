@@ -66,7 +66,7 @@ impl<'a> StepFields<'a> {
 }
 
 /// A backend's own part of a stage.
-enum Engine<M, S> {
+pub(super) enum Engine<M, S> {
     Modal(M),
     Sparse(S),
 }
@@ -97,27 +97,15 @@ pub(in crate::scheme) enum Screened<'a> {
 }
 
 impl<'a> Prediction<'a> {
-    pub(super) fn modal(
+    pub(super) fn new(
         fields: StepFields<'a>,
         sums: FieldSums,
-        predicted: modal::Predicted<'a>,
+        engine: Engine<modal::Predicted<'a>, sparse::Step<'a>>,
     ) -> Prediction<'a> {
         Prediction {
             fields,
             sums,
-            engine: Engine::Modal(predicted),
-        }
-    }
-
-    pub(super) fn sparse(
-        fields: StepFields<'a>,
-        sums: FieldSums,
-        step: sparse::Step<'a>,
-    ) -> Prediction<'a> {
-        Prediction {
-            fields,
-            sums,
-            engine: Engine::Sparse(step),
+            engine,
         }
     }
 
