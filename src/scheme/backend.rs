@@ -70,6 +70,8 @@ impl Backend {
     /// round-off, or looser: the modal backend bounds it from its screening's reference), the
     /// damping quadratic when the backend formed it. An error is a failure to factor the step's
     /// matrix.
+    // One call site, on every step: inlined there, the Prediction needs no move out of a frame.
+    #[inline]
     pub(in crate::scheme) fn predict<'a>(
         &'a mut self,
         levels: &'a mut TimeLevels,
