@@ -14,7 +14,8 @@
 
 use ::clarabel::algebra::CscMatrix;
 use ::clarabel::solver::{
-    DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+    DefaultSettings, DefaultSettingsBuilder, DefaultSolution, DefaultSolver, IPSolver,
+    SolverStatus, SupportedConeT,
 };
 
 use super::{add_product, BoundState, BoxQp, QpSolution};
@@ -170,16 +171,51 @@ fn solve_on_active_set(
 /// Solve `qp` with Clarabel and the given settings (see [`reference_settings`]).
 ///
 /// The states are read from the interior-point pair of each bound row: index i is active at a
-/// bound when that row's dual exceeds its slack (strict complementarity makes the split clear). Errors: inconsistent dimensions, lo_i > hi_i, or any Clarabel status but
-/// `Solved` (named in the message).
+/// bound when that row's dual exceeds its slack (strict complementarity makes the split clear).
+/// Errors: inconsistent dimensions, lo_i > hi_i, or any Clarabel status but `Solved` (named in
+/// the message).
 ///
-/// Kept in one piece (~160 lines): it is one straight pipeline — scaling, P in Clarabel's CSC, the
-/// bound rows G and h, the solve, the unscaling and the state reading — whose steps share the row
-/// bookkeeping of G; split, each piece would take and return that bookkeeping.
+/// The problem is scaled as the module docs say (x by the largest finite bound, the objective by
+/// A's largest diagonal entry); the bounds become the rows of G, whose duals and slacks give the
+/// answer's multipliers and states.
 pub fn solve_box_qp_with(
     qp: &BoxQp<'_>,
     settings: DefaultSettings<f64>,
 ) -> Result<QpSolution, Error> {
+    let scale_x = bound_scale(qp)?;
+    let objective = ScaledObjective::new(qp, scale_x)?;
+    let rows = BoundRows::new(qp, scale_x);
+    let cones = if rows.h.is_empty() {
+        Vec::new()
+    } else {
+        vec![SupportedConeT::NonnegativeConeT(rows.h.len())]
+    };
+    let (p, q) = (&objective.p, &objective.q);
+    let mut solver = DefaultSolver::new(p, q, &rows.g, &rows.h, &cones, settings)
+        .map_err(|e| Error::ContactSolver(format!("clarabel rejected the problem: {e:?}")))?;
+    solver.solve();
+    let status = solver.solution.status;
+    if status != SolverStatus::Solved {
+        return Err(Error::ContactSolver(format!(
+            "clarabel stopped with status {status:?} after {} iterations (reference solve needs \
+             Solved)",
+            solver.info.iterations
+        )));
+    }
+    let sol = &solver.solution;
+    let x: Vec<f64> = sol.x.iter().map(|&xi| xi * scale_x).collect();
+    let (lambda, states) = rows.multipliers_and_states(sol, scale_x * objective.d);
+    Ok(QpSolution {
+        x,
+        lambda,
+        states,
+        polished: false,
+    })
+}
+
+/// Checks the dimensions and bounds of `qp` and returns the scale of x: the largest finite
+/// |bound| (1 when there is none or all are 0).
+fn bound_scale(qp: &BoxQp<'_>) -> Result<f64, Error> {
     let n = qp.b.len();
     let m = qp.constrained.len();
     if qp.a.nrows() != n || qp.a.ncols() != n {
@@ -211,132 +247,144 @@ pub fn solve_box_qp_with(
             }
         }
     }
-    if scale_x == 0.0 {
-        scale_x = 1.0;
-    }
+    Ok(if scale_x == 0.0 { 1.0 } else { scale_x })
+}
 
-    // P: the upper triangle of A / d, in Clarabel's own CSC.
-    let a = qp.a;
-    let mut d = 0.0_f64;
-    for j in 0..n {
-        let range = a.col_range(j);
-        for (&i, &v) in a.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
-            if i == j {
-                d = d.max(v.abs());
+/// The objective ½xᵀPx + qᵀx of the scaled problem: P = A/d (its upper triangle, in Clarabel's
+/// own CSC) and q = −b/(s d), with s the scale of x and d A's largest diagonal entry.
+struct ScaledObjective {
+    p: CscMatrix<f64>,
+    q: Vec<f64>,
+    /// d.
+    d: f64,
+}
+
+impl ScaledObjective {
+    fn new(qp: &BoxQp<'_>, scale_x: f64) -> Result<ScaledObjective, Error> {
+        let a = qp.a;
+        let n = qp.b.len();
+        let mut d = 0.0_f64;
+        for j in 0..n {
+            let range = a.col_range(j);
+            for (&i, &v) in a.row_idx()[range.clone()].iter().zip(&a.val()[range]) {
+                if i == j {
+                    d = d.max(v.abs());
+                }
             }
         }
-    }
-    if !(d > 0.0 && d.is_finite()) {
-        return Err(Error::ContactSolver(
-            "clarabel: A has no positive finite diagonal".to_string(),
-        ));
-    }
-    let mut colptr = Vec::with_capacity(n + 1);
-    let mut rowval = Vec::new();
-    let mut nzval = Vec::new();
-    colptr.push(0);
-    for j in 0..n {
-        let range = a.col_range(j);
-        let mut entries: Vec<(usize, f64)> = a.row_idx()[range.clone()]
-            .iter()
-            .zip(&a.val()[range])
-            .filter(|(&i, _)| i <= j)
-            .map(|(&i, &v)| (i, v / d))
-            .collect();
-        entries.sort_unstable_by_key(|e| e.0);
-        for (i, v) in entries {
-            rowval.push(i);
-            nzval.push(v);
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(Error::ContactSolver(
+                "clarabel: A has no positive finite diagonal".to_string(),
+            ));
         }
-        colptr.push(rowval.len());
+        let mut colptr = Vec::with_capacity(n + 1);
+        let mut rowval = Vec::new();
+        let mut nzval = Vec::new();
+        colptr.push(0);
+        for j in 0..n {
+            let range = a.col_range(j);
+            let mut entries: Vec<(usize, f64)> = a.row_idx()[range.clone()]
+                .iter()
+                .zip(&a.val()[range])
+                .filter(|(&i, _)| i <= j)
+                .map(|(&i, &v)| (i, v / d))
+                .collect();
+            entries.sort_unstable_by_key(|e| e.0);
+            for (i, v) in entries {
+                rowval.push(i);
+                nzval.push(v);
+            }
+            colptr.push(rowval.len());
+        }
+        let p = CscMatrix::new(n, n, colptr, rowval, nzval);
+        let q: Vec<f64> = qp.b.iter().map(|&bi| -bi / (scale_x * d)).collect();
+        Ok(ScaledObjective { p, q, d })
     }
-    let p = CscMatrix::new(n, n, colptr, rowval, nzval);
-    let q: Vec<f64> = qp.b.iter().map(|&bi| -bi / (scale_x * d)).collect();
+}
 
-    // G and h: one row per finite bound; remember which row belongs to which index.
-    let mut triplets_i = Vec::new();
-    let mut triplets_j = Vec::new();
-    let mut triplets_v = Vec::new();
-    let mut h = Vec::new();
-    let mut upper_row = vec![usize::MAX; m];
-    let mut lower_row = vec![usize::MAX; m];
-    for i in 0..m {
-        let c = qp.constrained[i];
-        if qp.upper[i].is_finite() {
-            upper_row[i] = h.len();
-            triplets_i.push(h.len());
-            triplets_j.push(c);
-            triplets_v.push(1.0);
-            h.push(qp.upper[i] / scale_x);
-        }
-        if qp.lower[i].is_finite() {
-            lower_row[i] = h.len();
-            triplets_i.push(h.len());
-            triplets_j.push(c);
-            triplets_v.push(-1.0);
-            h.push(-qp.lower[i] / scale_x);
-        }
-    }
-    let rows = h.len();
-    let g = CscMatrix::new_from_triplets(rows, n, triplets_i, triplets_j, triplets_v);
-    let cones = if rows > 0 {
-        vec![SupportedConeT::NonnegativeConeT(rows)]
-    } else {
-        Vec::new()
-    };
+/// The bounds of the scaled problem as the rows Gx ≤ h, one per finite bound (x_c ≤ hi/s and
+/// −x_c ≤ −lo/s), and which row belongs to which constrained index.
+struct BoundRows {
+    g: CscMatrix<f64>,
+    h: Vec<f64>,
+    /// The row of index i's upper bound, `usize::MAX` when infinite.
+    upper_row: Vec<usize>,
+    /// The row of index i's lower bound, `usize::MAX` when infinite.
+    lower_row: Vec<usize>,
+}
 
-    let mut solver = DefaultSolver::new(&p, &q, &g, &h, &cones, settings)
-        .map_err(|e| Error::ContactSolver(format!("clarabel rejected the problem: {e:?}")))?;
-    solver.solve();
-    let status = solver.solution.status;
-    if status != SolverStatus::Solved {
-        return Err(Error::ContactSolver(format!(
-            "clarabel stopped with status {status:?} after {} iterations (reference solve needs \
-             Solved)",
-            solver.info.iterations
-        )));
+impl BoundRows {
+    fn new(qp: &BoxQp<'_>, scale_x: f64) -> BoundRows {
+        let m = qp.constrained.len();
+        let mut triplets_i = Vec::new();
+        let mut triplets_j = Vec::new();
+        let mut triplets_v = Vec::new();
+        let mut h = Vec::new();
+        let mut upper_row = vec![usize::MAX; m];
+        let mut lower_row = vec![usize::MAX; m];
+        for i in 0..m {
+            let c = qp.constrained[i];
+            if qp.upper[i].is_finite() {
+                upper_row[i] = h.len();
+                triplets_i.push(h.len());
+                triplets_j.push(c);
+                triplets_v.push(1.0);
+                h.push(qp.upper[i] / scale_x);
+            }
+            if qp.lower[i].is_finite() {
+                lower_row[i] = h.len();
+                triplets_i.push(h.len());
+                triplets_j.push(c);
+                triplets_v.push(-1.0);
+                h.push(-qp.lower[i] / scale_x);
+            }
+        }
+        let g =
+            CscMatrix::new_from_triplets(h.len(), qp.b.len(), triplets_i, triplets_j, triplets_v);
+        BoundRows {
+            g,
+            h,
+            upper_row,
+            lower_row,
+        }
     }
-    let sol = &solver.solution;
-    let x: Vec<f64> = sol.x.iter().map(|&xi| xi * scale_x).collect();
-    let mut lambda = vec![0.0; m];
-    let mut states = vec![BoundState::Free; m];
-    for i in 0..m {
-        let zl = if lower_row[i] == usize::MAX {
-            0.0
-        } else {
-            sol.z[lower_row[i]]
+
+    /// The multipliers λ_i = scale·(z_lower − z_upper) (`scale` undoes the problem's scaling,
+    /// s d) and the contact states of the solution `sol`: index i is active at the bound whose
+    /// dual exceeds its slack and the other dual (its slack is zero to the solver's accuracy).
+    fn multipliers_and_states(
+        &self,
+        sol: &DefaultSolution<f64>,
+        scale: f64,
+    ) -> (Vec<f64>, Vec<BoundState>) {
+        let m = self.lower_row.len();
+        let mut lambda = vec![0.0; m];
+        let mut states = vec![BoundState::Free; m];
+        // The value of a bound's row in `v`, or `absent` when the bound is infinite.
+        let row = |rows: &[usize], i: usize, v: &[f64], absent: f64| {
+            if rows[i] == usize::MAX {
+                absent
+            } else {
+                v[rows[i]]
+            }
         };
-        let zu = if upper_row[i] == usize::MAX {
-            0.0
-        } else {
-            sol.z[upper_row[i]]
-        };
-        lambda[i] = scale_x * d * (zl - zu);
-        // Active when its slack is zero to the solver's accuracy and the dual is the larger.
-        let sl = if lower_row[i] == usize::MAX {
-            f64::INFINITY
-        } else {
-            sol.s[lower_row[i]]
-        };
-        let su = if upper_row[i] == usize::MAX {
-            f64::INFINITY
-        } else {
-            sol.s[upper_row[i]]
-        };
-        states[i] = if zl > sl && zl > zu {
-            BoundState::AtLower
-        } else if zu > su && zu > zl {
-            BoundState::AtUpper
-        } else {
-            BoundState::Free
-        };
+        for i in 0..m {
+            let zl = row(&self.lower_row, i, &sol.z, 0.0);
+            let zu = row(&self.upper_row, i, &sol.z, 0.0);
+            lambda[i] = scale * (zl - zu);
+            // Active when its slack is zero to the solver's accuracy and the dual is the larger.
+            let sl = row(&self.lower_row, i, &sol.s, f64::INFINITY);
+            let su = row(&self.upper_row, i, &sol.s, f64::INFINITY);
+            states[i] = if zl > sl && zl > zu {
+                BoundState::AtLower
+            } else if zu > su && zu > zl {
+                BoundState::AtUpper
+            } else {
+                BoundState::Free
+            };
+        }
+        (lambda, states)
     }
-    Ok(QpSolution {
-        x,
-        lambda,
-        states,
-        polished: false,
-    })
 }
 
 /// +1 for the lower bound (λ ≥ 0), −1 for the upper (λ ≤ 0).

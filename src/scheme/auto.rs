@@ -1,9 +1,9 @@
 //! The choice of the linear backend for a scene, and its construction.
 
-use super::backend::LinearBackend;
+use super::backend::Backend;
+use super::free_system::FreeSystem;
 use super::modal::{FreeDofData, ModalBackend, ModalData};
 use super::sparse::SparseBackend;
-use super::FreeSystem;
 use crate::error::Error;
 use crate::modes::generalized_eigen;
 use crate::scene::{LinearChoice, Scene};
@@ -14,7 +14,7 @@ pub fn build(
     linear: LinearChoice,
     scene: &Scene,
     free: &Arc<FreeSystem>,
-) -> Result<Box<dyn LinearBackend>, Error> {
+) -> Result<Backend, Error> {
     Ok(match linear {
         LinearChoice::Modal => {
             // The dense M_ff serves the eigenproblem and the modal data: made once.
@@ -32,8 +32,8 @@ pub fn build(
                     damping: &free.damping,
                 },
             );
-            Box::new(ModalBackend::new(Arc::new(data)))
+            Backend::Modal(ModalBackend::new(Arc::new(data)))
         }
-        _ => Box::new(SparseBackend::new(Arc::clone(free))?),
+        _ => Backend::Sparse(SparseBackend::new(Arc::clone(free))?),
     })
 }

@@ -6,8 +6,8 @@
 //! K𝟙 = 0 the pieces are those of w plus the rigid motion of the base: vᵀMv = ż²𝟙ᵀM𝟙 + 2ż m₁ᵀẇ +
 //! ẇᵀMẇ, uᵀKu = wᵀKw and Fᵀu = z∫1 + fᵀw.
 
-use super::backend::EnergyPieces;
-use super::FreeSystem;
+use super::free_system::FreeSystem;
+use super::sums::EnergyPieces;
 use serde::{Deserialize, Serialize};
 
 /// Energy that enters or leaves the plate over one step, or summed over steps (J), such that the

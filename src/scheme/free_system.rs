@@ -7,7 +7,6 @@
 //! through A − ΔtC. The start step, from rest (v_0 = 0), has no damping term: its matrix stays
 //! A₀ = M + ½Δt²K.
 
-use super::backend::StepForcing;
 use super::vectors::dot;
 use crate::assembly::dofs_per_vertex;
 use crate::contact::add_product;
@@ -16,6 +15,18 @@ use crate::scene::{DampingCoefficients, Scene};
 use crate::system::PlateSystem;
 use faer::sparse::SparseColMat;
 use std::sync::Arc;
+
+/// Forcing of one step, as multipliers of the precomputed free-dof vectors f (unit load) and
+/// m₁ = (M𝟙)_f (the mass matrix times the rigid translation).
+#[derive(Clone, Copy, Debug)]
+pub struct StepForcing {
+    /// Multiplier of f: ½Δt²(p_{n+1} + p_{n−1}) (start: ½Δt²·(p_1 + p_0)/2).
+    pub load: f64,
+    /// Multiplier of m₁: −(z_{n+1} − 2z_n + z_{n−1}) (start: −(z_1 − z_0)).
+    pub translation: f64,
+    /// Whether this is the start step n = 0 → 1.
+    pub start: bool,
+}
 
 /// The free-dof restriction of the plate for one time step Δt.
 #[derive(Debug)]

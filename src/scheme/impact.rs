@@ -19,7 +19,7 @@
 //! The law reads the positions of each constrained vertex at t_{n−1} and t_n; [`VertexHistory`]
 //! keeps them, evaluated only on the steps that need bounds.
 
-use super::backend::LinearBackend;
+use super::backend::FieldMaps;
 use crate::scene::{ImpactLaw, Solver};
 
 /// The law a run's steps impose.
@@ -120,19 +120,19 @@ impl VertexHistory {
 
     /// (w_{n−1}, w_n) at the constrained vertices, evaluating from the fields `previous` and
     /// `current` those not known. The values are exactly those of
-    /// [`LinearBackend::constrained_values`] on the fields, whichever way they were obtained, so
+    /// [`FieldMaps::constrained_values`] on the fields, whichever way they were obtained, so
     /// a restored state continues bit for bit.
     pub(crate) fn values(
         &mut self,
-        backend: &dyn LinearBackend,
+        maps: FieldMaps,
         previous: &[f64],
         current: &[f64],
     ) -> (&[f64], &[f64]) {
         if !self.known[0] {
-            backend.constrained_values(previous, &mut self.previous);
+            maps.constrained_values(previous, &mut self.previous);
         }
         if !self.known[1] {
-            backend.constrained_values(current, &mut self.current);
+            maps.constrained_values(current, &mut self.current);
         }
         self.known = [true; 2];
         (&self.previous, &self.current)

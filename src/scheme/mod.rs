@@ -18,10 +18,11 @@
 //! μ/Δt² (N), 2μ/Δt² after the start step (its equation is scaled by Δt²/2).
 //!
 //! Layout: [`Stepper`] (`stepper.rs`) owns the three time levels and runs the scheme; the linear
-//! part runs behind the narrow [`LinearBackend`] trait (`backend.rs`) in one of two backends,
-//! [`modal`] (dense eigenbasis, O(n) per contact-free step) or [`sparse`] (sparse Cholesky),
-//! chosen by [`crate::scene::LinearChoice`] (`auto.rs`); [`FreeSystem`] is the plate restricted to
-//! its free dofs, `preload.rs` the initial static equilibrium, `energy.rs` the discrete energy,
+//! part runs in one of two backends, `modal/` (dense eigenbasis, O(n) per contact-free step) or
+//! `sparse.rs` (sparse Cholesky), chosen by [`crate::scene::LinearChoice`] (`auto.rs`), each seen
+//! through its read-only field maps and a step that borrows it through typed stages (prediction,
+//! screening, values, correction: `backend.rs`); [`FreeSystem`] is the plate restricted to its
+//! free dofs, `preload.rs` the initial static equilibrium, `energy.rs` the discrete energy,
 //! [`Outputs`] what a host reads and [`State`] what it saves and restores.
 
 mod auto;
@@ -29,19 +30,19 @@ mod backend;
 mod energy;
 mod free_system;
 mod impact;
-pub mod modal;
+mod modal;
 mod outputs;
 mod preload;
 mod reference;
-pub mod sparse;
+mod sparse;
 mod state;
 mod stepper;
+mod sums;
 mod vectors;
 
 pub use crate::backend_choice::{resolve as resolve_linear, MODAL_AUTO_LIMIT};
-pub use backend::{EnergyPieces, FieldSums, LinearBackend, StepForcing};
 pub use energy::EnergyFlows;
-pub use free_system::FreeSystem;
+pub use free_system::{FreeSystem, StepForcing};
 pub use impact::{newton_bounds, VertexMotion};
 pub use outputs::Outputs;
 pub use state::State;
@@ -49,3 +50,4 @@ pub use state::MAX_STEP_INDEX;
 pub use stepper::{
     StepPath, StepReport, Stepper, RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE,
 };
+pub use sums::{EnergyPieces, FieldSums};

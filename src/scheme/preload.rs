@@ -1,8 +1,8 @@
 //! The initial state: static equilibrium under the preload pressure, with contact when it pushes
 //! the plate into an obstacle.
 
+use super::free_system::FreeSystem;
 use super::reference::solve_reference;
-use super::FreeSystem;
 use crate::contact::{BoundState, BoxQp};
 use crate::error::Error;
 use crate::scene::Scene;

@@ -10,9 +10,13 @@
 //! less than faer's minimum degree ordering. With damping the start step's matrix is the undamped
 //! A₀ = M + ½Δt²K: its own [`SparseContact`] is made when a start step runs and dropped after it,
 //! so a run holds the factor of A only.
+//!
+//! A step borrows the backend as a [`Step`] from [`SparseBackend::predict`] on: the step's factor
+//! (A or A₀), b and the workspace of its contact solve. The field maps (free functions here, over
+//! the [`FreeSystem`]) are the identity's: a field is w_f itself.
 
-use super::backend::{EnergyPieces, FieldSums, LinearBackend, StepForcing};
-use super::free_system::{quadratic, FreeSystem};
+use super::free_system::{quadratic, FreeSystem, StepForcing};
+use super::sums::{EnergyPieces, FieldSums};
 use super::vectors::{dot, sum_of_squares};
 use crate::contact::delassus::DEFAULT_DELASSUS_BUDGET;
 use crate::contact::ordering::nested_dissection;
@@ -23,7 +27,7 @@ use faer::sparse::SparseColMat;
 use std::sync::Arc;
 
 /// The sparse backend: fields are free-dof vectors w_f.
-pub struct SparseBackend {
+pub(in crate::scheme) struct SparseBackend {
     free: Arc<FreeSystem>,
     /// The factor of A and the contact solve on it.
     contact: SparseContact,
@@ -34,13 +38,11 @@ pub struct SparseBackend {
     rhs: Vec<f64>,
     /// The unconstrained prediction w* of the step being solved, while its contact is solved.
     unconstrained: Vec<f64>,
-    /// Whether the step being solved is the start step (whose matrix is A₀).
-    start: bool,
 }
 
 impl SparseBackend {
     /// Factors A = M + ½Δt²K + ½ΔtC of `free` (ordering analysed once, see the module docs).
-    pub fn new(free: Arc<FreeSystem>) -> Result<SparseBackend, Error> {
+    pub(in crate::scheme) fn new(free: Arc<FreeSystem>) -> Result<SparseBackend, Error> {
         let contact = contact_solve(&free, &free.system)?;
         let n = free.load.len();
         Ok(SparseBackend {
@@ -48,24 +50,57 @@ impl SparseBackend {
             start_contact: None,
             rhs: vec![0.0; n],
             unconstrained: vec![0.0; n],
-            start: false,
             free,
         })
     }
 
-    /// The contact solve of the step being solved: on A₀ for a damped start step, else on A.
-    fn step_contact(&mut self) -> Result<&mut SparseContact, Error> {
-        let free = &*self.free;
-        let Some(start_matrix) = free.start_system().filter(|_| self.start) else {
-            return Ok(&mut self.contact);
-        };
-        if self.start_contact.is_none() {
-            self.start_contact = Some(contact_solve(free, start_matrix)?);
+    /// The free system, over which the field maps work.
+    pub(in crate::scheme) fn free(&self) -> &FreeSystem {
+        &self.free
+    }
+
+    /// Writes the unconstrained prediction w* = A⁻¹b into `next` (A₀ for the start step, whose
+    /// factor is made now and dropped at the next step), b the right-hand side from `previous`
+    /// and `current` ([`FreeSystem::right_hand_side`]), and returns its sums with the step. An
+    /// error is a failure to factor A₀ or to solve.
+    pub(in crate::scheme) fn predict(
+        &mut self,
+        previous: &[f64],
+        current: &[f64],
+        forcing: &StepForcing,
+        next: &mut [f64],
+    ) -> Result<(FieldSums, Step<'_>), Error> {
+        let SparseBackend {
+            free,
+            contact,
+            start_contact,
+            rhs,
+            unconstrained,
+        } = self;
+        let free: &FreeSystem = free;
+        if !forcing.start {
+            // The start step is over: its system is not needed again unless the run restarts.
+            *start_contact = None;
         }
-        Ok(self
-            .start_contact
-            .as_mut()
-            .expect("made for this start step"))
+        free.right_hand_side(forcing, previous, current, rhs);
+        // The contact solve of the step: on A₀ for a damped start step, else on A.
+        let contact = match free.start_system().filter(|_| forcing.start) {
+            None => contact,
+            Some(start_matrix) => {
+                if start_contact.is_none() {
+                    *start_contact = Some(contact_solve(free, start_matrix)?);
+                }
+                start_contact.as_mut().expect("made for this start step")
+            }
+        };
+        contact.solve_unconstrained(rhs, next)?;
+        let step = Step {
+            free,
+            contact,
+            rhs,
+            unconstrained,
+        };
+        Ok((field_sums(free, next), step))
     }
 }
 
@@ -89,154 +124,146 @@ fn contact_solve(
     })
 }
 
-impl LinearBackend for SparseBackend {
-    fn dimension(&self) -> usize {
-        self.free.load.len()
-    }
+/// The sparse backend borrowed for one step, through every stage: the step's factor and contact
+/// solve, its b, and the workspace that keeps w* while the contact is solved.
+pub(in crate::scheme) struct Step<'a> {
+    free: &'a FreeSystem,
+    contact: &'a mut SparseContact,
+    rhs: &'a [f64],
+    unconstrained: &'a mut [f64],
+}
 
-    fn predict(
-        &mut self,
-        previous: &[f64],
-        current: &[f64],
-        forcing: &StepForcing,
-        next: &mut [f64],
-    ) -> Result<FieldSums, Error> {
-        self.start = forcing.start;
-        if !forcing.start {
-            // The start step is over: its system is not needed again unless the run restarts.
-            self.start_contact = None;
-        }
+impl<'a> Step<'a> {
+    /// The free system, over which the field maps work.
+    pub(in crate::scheme) fn free(&self) -> &'a FreeSystem {
         self.free
-            .right_hand_side(forcing, previous, current, &mut self.rhs);
-        let rhs = std::mem::take(&mut self.rhs);
-        let solved = self
-            .step_contact()
-            .and_then(|contact| contact.solve_unconstrained(&rhs, next));
-        self.rhs = rhs;
-        solved.map(|()| self.field_sums(next))
     }
 
-    fn field_sums(&self, field: &[f64]) -> FieldSums {
-        FieldSums {
-            norm_squared: sum_of_squares(field),
-            translation: dot(&self.free.translation_mass, field),
-            damping: None,
-        }
-    }
-
-    fn load_projection(&self, field: &[f64]) -> f64 {
-        dot(&self.free.load, field)
-    }
-
-    fn multiplier_work(&mut self, next: &[f64], previous: &[f64], multipliers: &[f64]) -> f64 {
-        multipliers
-            .iter()
-            .zip(&self.free.constrained)
-            .filter(|(&mu, _)| mu != 0.0)
-            .map(|(&mu, &d)| mu * (next[d] - previous[d]))
-            .sum()
-    }
-
-    /// With ‖·‖₁ the largest column sum of absolute values, which bounds the 2-norm of a
-    /// symmetric matrix: wᵀKw ≤ ‖K‖₁‖w‖², ẇᵀMẇ ≤ ‖M‖₁‖ẇ‖².
-    fn magnitude_scale(&self, time_step: f64) -> f64 {
-        let free = &*self.free;
-        let one_norm = |a: &SparseColMat<usize, f64>| {
-            (0..a.ncols())
-                .map(|j| a.val_of_col(j).iter().map(|v| v.abs()).sum::<f64>())
-                .fold(0.0, f64::max)
-        };
-        let norm = |v: &[f64]| sum_of_squares(v).sqrt();
-        let output_norm = free.outputs.iter().map(|r| norm(r)).fold(0.0, f64::max);
-        [
-            4.0 * one_norm(&free.mass) / (time_step * time_step),
-            4.0 * norm(&free.translation_mass) / (time_step * time_step),
-            2.0 * norm(&free.translation_mass) / time_step,
-            one_norm(&free.stiffness),
-            norm(&free.load),
-            output_norm,
-        ]
-        .into_iter()
-        .fold(1.0, f64::max)
-    }
-
-    /// Exact: the constrained values are entries of w_{n+1}.
-    fn prediction_proven_within(&mut self, next: &[f64], lower: f64, upper: f64) -> bool {
+    /// Whether the prediction `next` satisfies lower ≤ w ≤ upper at every constrained vertex:
+    /// exact, the constrained values being entries of w.
+    pub(in crate::scheme) fn proven_within(&self, next: &[f64], lower: f64, upper: f64) -> bool {
         self.free
             .constrained
             .iter()
             .all(|&d| next[d] >= lower && next[d] <= upper)
     }
 
-    /// [`SparseContact::solve`] on the step's matrix, from b and w* of the last prediction.
-    fn solve_contact(
+    /// [`SparseContact::solve`] on the step's matrix from b and w* = `next`, into `next`.
+    pub(in crate::scheme) fn solve(
         &mut self,
         next: &mut [f64],
-        _prediction: &[f64],
         lower: &[f64],
         upper: &[f64],
         states: &mut [BoundState],
         settings: &PdasSettings,
     ) -> Result<PdasReport, Error> {
-        let (rhs, mut unconstrained) = (
-            std::mem::take(&mut self.rhs),
-            std::mem::take(&mut self.unconstrained),
-        );
-        unconstrained.copy_from_slice(next);
-        let report = self.step_contact().and_then(|contact| {
-            contact.solve(&rhs, &unconstrained, lower, upper, states, settings, next)
-        });
-        (self.rhs, self.unconstrained) = (rhs, unconstrained);
-        report
+        self.unconstrained.copy_from_slice(next);
+        self.contact.solve(
+            self.rhs,
+            self.unconstrained,
+            lower,
+            upper,
+            states,
+            settings,
+            next,
+        )
     }
 
-    fn contact_multipliers(&self) -> &[f64] {
-        match &self.start_contact {
-            Some(contact) if self.start => contact.lambda(),
-            _ => self.contact.lambda(),
-        }
+    /// The multipliers μ (length m) of the last solve.
+    pub(in crate::scheme) fn multipliers(&self) -> &[f64] {
+        self.contact.lambda()
     }
+}
 
-    fn constrained_values(&self, field: &[f64], out: &mut [f64]) {
-        for (o, &d) in out.iter_mut().zip(&self.free.constrained) {
-            *o = field[d];
-        }
-    }
+// The field maps of free-dof vectors ([`FieldMaps`](super::backend::FieldMaps) documents each).
 
-    fn to_free_dofs(&self, field: &[f64]) -> Vec<f64> {
-        field.to_vec()
-    }
+pub(in crate::scheme) fn dimension(free: &FreeSystem) -> usize {
+    free.load.len()
+}
 
-    fn field_of_free_dofs(&self, w: &[f64], field: &mut [f64]) {
-        field.copy_from_slice(w);
+pub(in crate::scheme) fn field_sums(free: &FreeSystem, field: &[f64]) -> FieldSums {
+    FieldSums {
+        norm_squared: sum_of_squares(field),
+        translation: dot(&free.translation_mass, field),
+        damping: None,
     }
+}
 
-    fn energy(&self, previous: &[f64], current: &[f64], time_step: f64) -> EnergyPieces {
-        let free = &*self.free;
-        let v: Vec<f64> = current
-            .iter()
-            .zip(previous)
-            .map(|(a, b)| (a - b) / time_step)
-            .collect();
-        EnergyPieces {
-            velocity_mass_velocity: quadratic(&free.mass, &v),
-            translation_mass_velocity: dot(&free.translation_mass, &v),
-            stiffness_current: quadratic(&free.stiffness, current),
-            stiffness_previous: quadratic(&free.stiffness, previous),
-            load_current: dot(&free.load, current),
-            load_previous: dot(&free.load, previous),
-        }
-    }
+pub(in crate::scheme) fn load_projection(free: &FreeSystem, field: &[f64]) -> f64 {
+    dot(&free.load, field)
+}
 
-    /// α (x − y)ᵀM(x − y) + β (x − y)ᵀK(x − y).
-    fn damping_quadratic(&self, x: &[f64], y: &[f64]) -> f64 {
-        let free = &*self.free;
-        let difference: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
-        free.damping.alpha * quadratic(&free.mass, &difference)
-            + free.damping.beta * quadratic(&free.stiffness, &difference)
-    }
+/// Σ_i μ_i (x − y)_{d_i} over the non-zero μ_i, d_i the free dof of vertex i.
+pub(in crate::scheme) fn multiplier_work(
+    free: &FreeSystem,
+    next: &[f64],
+    previous: &[f64],
+    multipliers: &[f64],
+) -> f64 {
+    multipliers
+        .iter()
+        .zip(&free.constrained)
+        .filter(|(&mu, _)| mu != 0.0)
+        .map(|(&mu, &d)| mu * (next[d] - previous[d]))
+        .sum()
+}
 
-    fn output_values(&self, field: &[f64]) -> [f64; 3] {
-        self.free.outputs.each_ref().map(|row| dot(row, field))
+/// With ‖·‖₁ the largest column sum of absolute values, which bounds the 2-norm of a
+/// symmetric matrix: wᵀKw ≤ ‖K‖₁‖w‖², ẇᵀMẇ ≤ ‖M‖₁‖ẇ‖².
+pub(in crate::scheme) fn magnitude_scale(free: &FreeSystem, time_step: f64) -> f64 {
+    let one_norm = |a: &SparseColMat<usize, f64>| {
+        (0..a.ncols())
+            .map(|j| a.val_of_col(j).iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0, f64::max)
+    };
+    let norm = |v: &[f64]| sum_of_squares(v).sqrt();
+    let output_norm = free.outputs.iter().map(|r| norm(r)).fold(0.0, f64::max);
+    [
+        4.0 * one_norm(&free.mass) / (time_step * time_step),
+        4.0 * norm(&free.translation_mass) / (time_step * time_step),
+        2.0 * norm(&free.translation_mass) / time_step,
+        one_norm(&free.stiffness),
+        norm(&free.load),
+        output_norm,
+    ]
+    .into_iter()
+    .fold(1.0, f64::max)
+}
+
+pub(in crate::scheme) fn constrained_values(free: &FreeSystem, field: &[f64], out: &mut [f64]) {
+    for (o, &d) in out.iter_mut().zip(&free.constrained) {
+        *o = field[d];
     }
+}
+
+pub(in crate::scheme) fn energy(
+    free: &FreeSystem,
+    previous: &[f64],
+    current: &[f64],
+    time_step: f64,
+) -> EnergyPieces {
+    let v: Vec<f64> = current
+        .iter()
+        .zip(previous)
+        .map(|(a, b)| (a - b) / time_step)
+        .collect();
+    EnergyPieces {
+        velocity_mass_velocity: quadratic(&free.mass, &v),
+        translation_mass_velocity: dot(&free.translation_mass, &v),
+        stiffness_current: quadratic(&free.stiffness, current),
+        stiffness_previous: quadratic(&free.stiffness, previous),
+        load_current: dot(&free.load, current),
+        load_previous: dot(&free.load, previous),
+    }
+}
+
+/// α (x − y)ᵀM(x − y) + β (x − y)ᵀK(x − y).
+pub(in crate::scheme) fn damping_quadratic(free: &FreeSystem, x: &[f64], y: &[f64]) -> f64 {
+    let difference: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
+    free.damping.alpha * quadratic(&free.mass, &difference)
+        + free.damping.beta * quadratic(&free.stiffness, &difference)
+}
+
+pub(in crate::scheme) fn output_values(free: &FreeSystem, field: &[f64]) -> [f64; 3] {
+    free.outputs.each_ref().map(|row| dot(row, field))
 }

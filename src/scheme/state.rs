@@ -1,11 +1,11 @@
-//! The serializable dynamic state of a stepper, for FMU get/set/serialize, and its checks: a
-//! state is untrusted input, and [`Stepper::restore`](super::Stepper::restore) adopts only a
+//! The serializable dynamic state of a stepper, for FMU get/set/serialize, and its checks (among
+//! them [`check_base`], which every step applies to its new base value too): a state is untrusted
+//! input, and [`Stepper::restore`](super::Stepper::restore) adopts only a
 //! [`CheckedState`], which [`Model::check`] alone makes.
 
-use super::backend::LinearBackend;
+use super::backend::FieldMaps;
 use super::energy::{DiscreteEnergy, EnergyFlows};
-use super::stepper::check_base;
-use super::FreeSystem;
+use super::free_system::FreeSystem;
 use crate::contact::BoundState;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Outside, Scene};
@@ -159,12 +159,12 @@ pub(crate) struct CheckedState<'a> {
     pub(super) states: Vec<BoundState>,
 }
 
-/// What stored levels and states are checked against: a running stepper's scene, backend and
-/// free system ([`Stepper::model`](super::Stepper::model)).
+/// What stored levels and states are checked against: a running stepper's scene, backend (its
+/// field maps) and free system ([`Stepper::model`](super::Stepper::model)).
 pub(super) struct Model<'a> {
     pub(super) scene: &'a Scene,
     pub(super) linear: LinearChoice,
-    pub(super) backend: &'a dyn LinearBackend,
+    pub(super) maps: FieldMaps<'a>,
     pub(super) free: &'a FreeSystem,
 }
 
@@ -238,7 +238,7 @@ impl Model<'_> {
     /// The lengths of the state's fields against the backend's dimension and the constrained
     /// vertices.
     fn check_dimensions(&self, state: &State) -> Result<(), Error> {
-        let (n, m) = (self.backend.dimension(), self.free.constrained.len());
+        let (n, m) = (self.maps.dimension(), self.free.constrained.len());
         for (field, length, expected) in [
             ("previous", state.previous.len(), n),
             ("current", state.current.len(), n),
@@ -308,7 +308,7 @@ impl Model<'_> {
             .zip(levels.base)
             .enumerate()
         {
-            self.backend.constrained_values(field, &mut u);
+            self.maps.constrained_values(field, &mut u);
             for u in u.iter_mut() {
                 *u += z;
             }
@@ -330,9 +330,9 @@ impl Model<'_> {
         at_rest: bool,
     ) -> (DiscreteEnergy, [f64; 3]) {
         let dt = self.scene.solver.time_step;
-        let pieces = self.backend.energy(previous, current, dt);
+        let pieces = self.maps.energy(previous, current, dt);
         let energy = DiscreteEnergy::new(self.free, pieces, base, pressure, dt, at_rest);
-        (energy, self.backend.output_values(current))
+        (energy, self.maps.output_values(current))
     }
 
     /// [`RESTORE_FORCE_TOLERANCE`] in newtons for the obstacles of `scene`.
@@ -351,6 +351,23 @@ impl Model<'_> {
             .fold(0.0, f64::max);
         let dt = scene.solver.time_step;
         RESTORE_FORCE_TOLERANCE * largest_diagonal * scene.gap() / (dt * dt)
+    }
+}
+
+/// The base must stay strictly inside the gap (docs/model.md).
+pub(super) fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
+    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+    let inside =
+        base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
+    if inside {
+        Ok(())
+    } else {
+        Err(Error::BaseOutsideGap {
+            time,
+            base,
+            lower,
+            upper,
+        })
     }
 }
 

@@ -1,27 +1,40 @@
 //! The time stepper: the three time levels, the forcing and bounds of each step, the contact
 //! solve, and what a step reports.
+//!
+//! [`Stepper::step`] takes the backend's stages in their order: the prediction, then the route
+//! (`paths.rs`: screened, checked, clarabel or active set, and one function per path), then the
+//! close (`closing.rs`: contact forces, the force on the base, energy flows), each guarded
+//! (`guards.rs`), in a workspace kept from step to step (`workspace.rs`); only then is the step
+//! accepted. While the stages hold the backend and the fields, the step reads the rest of the
+//! stepper through its `Run`.
 
+mod closing;
 mod guards;
 mod paths;
+mod workspace;
 
 use super::auto;
-use super::backend::{FieldSums, LinearBackend, StepForcing};
+use super::backend::{Backend, FieldMaps, TimeLevels};
 use super::energy::EnergyFlows;
+use super::free_system::FreeSystem;
+use super::free_system::StepForcing;
 use super::impact::{Law, VertexHistory};
 use super::outputs::Outputs;
 use super::preload::static_preload;
-use super::state::{state_code, CheckedState, LevelOutside, Model, State, StoredLevels};
+use super::state::{
+    check_base, state_code, CheckedState, LevelOutside, Model, State, StoredLevels,
+};
 pub use super::state::{RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE};
-use super::FreeSystem;
 use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
 use crate::contact::{BoundState, PdasSettings};
 use crate::error::Error;
 use crate::scene::{LinearChoice, ObstacleSide, Scene};
 use crate::system::PlateSystem;
-pub(super) use guards::check_base;
+use closing::Closing;
 use paths::{Route, Solved};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+use workspace::StepWorkspace;
 
 /// Which method produced a step's u_{n+1}.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -71,7 +84,7 @@ pub struct StepReport {
 /// whatever it accepts a restore of the state taken after it accepts too.
 const MOVE_BOUND_TOLERANCE: f64 = 1e-12;
 
-/// What a step knows once its unconstrained prediction is in the next level.
+/// What a step knows before its prediction: its time, base value, forcing and obstacles.
 struct StepInput {
     /// z_{n+1} (m).
     base_next: f64,
@@ -80,66 +93,46 @@ struct StepInput {
     forcing: StepForcing,
     /// The obstacles relative to the base at t_{n+1}, g − z_{n+1} (m): (−∞, ∞) where disabled.
     obstacles: [f64; 2],
-    /// The sums of the prediction.
-    sums: FieldSums,
 }
 
-/// What a step formed after its contact solve, adopted when it is accepted.
-struct Closing {
-    /// The sums of w_{n+1}.
-    sums: FieldSums,
-    /// Σ_i f_i (N).
-    contact_force: f64,
-    /// −G_n (N).
-    base_force: f64,
-    /// J_{n+1} (N·s).
-    base_impulse: f64,
-    /// The step's energy flows (J).
-    flows: EnergyFlows,
-}
-
-/// The fields of the three time levels, in the backend's coordinates.
-#[derive(Clone, Debug)]
-struct TimeLevels {
-    /// w_{n−1}.
-    previous: Vec<f64>,
-    /// w_n.
-    current: Vec<f64>,
-    /// w_{n+1} while a step is being solved.
-    next: Vec<f64>,
-}
-
-impl TimeLevels {
-    /// Three copies of `field` (a plate at rest).
-    fn at_rest(field: Vec<f64>) -> TimeLevels {
-        TimeLevels {
-            previous: field.clone(),
-            current: field.clone(),
-            next: field,
-        }
-    }
-
-    /// Shifts n−1 ← n ← n+1.
-    fn accept(&mut self) {
-        std::mem::swap(&mut self.previous, &mut self.current);
-        std::mem::swap(&mut self.current, &mut self.next);
-    }
+/// How a step found u_{n+1}, for its report and its acceptance.
+struct Decision {
+    path: StepPath,
+    /// Why the answer is less exact than the normal path's, if it is.
+    warning: Option<String>,
+    /// Whether the constrained values were evaluated in full (the step was not screened).
+    bounds_evaluated: bool,
+    /// Whether the step evaluated its prediction's values and kept the prediction: under
+    /// Newton's law, which evaluates them exactly, they are then w_{n+1} at the vertices.
+    values_kept: bool,
 }
 
 /// The time stepper of one scene.
 pub struct Stepper {
+    /// The scene, the plate and what the steps so far left besides the fields.
+    run: Run,
+    /// The linear backend: its field maps and its step.
+    backend: Backend,
+    /// The fields of the three time levels in the backend's coordinates.
+    levels: TimeLevels,
+    /// w_{n−1} and w_n at the constrained vertices, for Newton's law.
+    history: VertexHistory,
+    /// The buffers a step works in.
+    work: StepWorkspace,
+}
+
+/// A stepper's scene, plate and settings, and what its steps so far left apart from the fields:
+/// all that a step reads while the backend's stages hold the fields, changed only when a step is
+/// accepted (or by the tunable setters and a restore).
+struct Run {
     scene: Scene,
     free: Arc<FreeSystem>,
-    backend: Box<dyn LinearBackend>,
     linear: LinearChoice,
-    levels: TimeLevels,
     step_index: u64,
     base: [f64; 2],
     pressure: [f64; 2],
     /// The impact law of the steps.
     law: Law,
-    /// w_{n−1} and w_n at the constrained vertices, for Newton's law.
-    history: VertexHistory,
     /// The contact state of each constrained vertex: the active-set warm start.
     states: Vec<BoundState>,
     active_set_settings: PdasSettings,
@@ -158,19 +151,10 @@ pub struct Stepper {
     base_impulse: f64,
     /// Energy flows summed since t_1.
     flows: EnergyFlows,
-    // Workspaces for the hot path.
     /// ‖w_n‖² in the backend's coordinates, for the overflow test of the next step.
     current_norm_squared: f64,
-    /// The backend's [`LinearBackend::magnitude_scale`] for Δt.
+    /// The backend's [`FieldMaps::magnitude_scale`] for Δt.
     magnitude_scale: f64,
-    /// The contact states and forces while a step is solved, adopted when it succeeds.
-    trial_states: Vec<BoundState>,
-    trial_forces: Vec<f64>,
-    prediction: Vec<f64>,
-    /// w_{n+1} at the constrained vertices after the contact solve, for its bound check.
-    solved: Vec<f64>,
-    lower: Vec<f64>,
-    upper: Vec<f64>,
 }
 
 impl Stepper {
@@ -200,15 +184,17 @@ impl Stepper {
         let linear = crate::backend_choice::resolve(scene, plate.free.len());
         let preload = static_preload(scene, &free, initial_base)?;
         let backend = auto::build(linear, scene, &free)?;
-        let mut field = vec![0.0; backend.dimension()];
-        backend.field_of_free_dofs(&preload.displacement, &mut field);
+        let maps = backend.maps();
+        let mut field = vec![0.0; maps.dimension()];
+        maps.field_of_free_dofs(&preload.displacement, &mut field);
         let m = free.constrained.len();
-        let sums = backend.field_sums(&field);
+        let sums = maps.field_sums(&field);
+        let magnitude_scale = maps.magnitude_scale(scene.solver.time_step);
         // At rest in static equilibrium, the base balances the preload and the obstacles:
         // 0 = G + p₀∫1 + Σλ.
         let base_force =
             scene.initial.preload_pressure * free.area + preload.forces.iter().sum::<f64>();
-        Ok(Stepper {
+        let run = Run {
             scene: scene.clone(),
             current_norm_squared: sums.norm_squared,
             active_count: preload.states.iter().filter(|s| s.is_active()).count(),
@@ -216,72 +202,72 @@ impl Stepper {
             base_force,
             base_impulse: 0.0,
             flows: EnergyFlows::default(),
-            magnitude_scale: backend.magnitude_scale(scene.solver.time_step),
-            backend,
+            magnitude_scale,
             linear,
-            levels: TimeLevels::at_rest(field),
             step_index: 0,
             base: [initial_base; 2],
             pressure: [scene.load.pressure; 2],
             law: Law::of(&scene.solver),
-            history: VertexHistory::new(m),
             states: preload.states,
             active_set_settings: PdasSettings::default(),
             forces: preload.forces,
             initial_warning: preload.warning,
-            trial_states: vec![BoundState::Free; m],
-            trial_forces: vec![0.0; m],
-            prediction: vec![0.0; m],
-            solved: vec![0.0; m],
-            lower: vec![0.0; m],
-            upper: vec![0.0; m],
             free,
+        };
+        Ok(Stepper {
+            run,
+            backend,
+            levels: TimeLevels::at_rest(field),
+            history: VertexHistory::new(m),
+            work: StepWorkspace::new(m),
         })
     }
 
     /// The scene, with tunable parameters at their current values.
     pub fn scene(&self) -> &Scene {
-        &self.scene
+        &self.run.scene
     }
 
     /// The linear backend that runs (`Modal` or `Sparse`, never `Auto`).
     pub fn linear_backend(&self) -> LinearChoice {
-        self.linear
+        self.run.linear
     }
 
     /// n.
     pub fn step_index(&self) -> u64 {
-        self.step_index
+        self.run.step_index
     }
 
     /// t_n = n Δt (s).
     pub fn time(&self) -> f64 {
-        self.step_index as f64 * self.scene.solver.time_step
+        self.run.time()
     }
 
     /// Number of free dofs.
     pub fn free_dof_count(&self) -> usize {
-        self.backend.dimension()
+        self.backend.maps().dimension()
     }
 
     /// Number of obstacle-constrained vertices (0 without obstacles).
     pub fn constrained_count(&self) -> usize {
-        self.free.constrained.len()
+        self.run.free.constrained.len()
     }
 
     /// Displacements u_n at the obstacle-constrained vertices (m).
     pub fn constrained_displacements(&self) -> Vec<f64> {
-        let mut w = vec![0.0; self.free.constrained.len()];
+        let mut w = vec![0.0; self.run.free.constrained.len()];
         self.backend
+            .maps()
             .constrained_values(&self.levels.current, &mut w);
-        w.iter().map(|w| self.base[1] + w).collect()
+        w.iter().map(|w| self.run.base[1] + w).collect()
     }
 
     /// The displacements u_{n−1} and u_n (m) at every mesh vertex, in the mesh's vertex order: the
     /// base displacement z on the clamp, z + w elsewhere (w the vertex's value dof). At n = 0 both
     /// are the initial state (released at rest).
     pub fn vertex_displacements(&self) -> [Vec<f64>; 2] {
-        let free = &*self.free;
+        let free = &*self.run.free;
+        let maps = self.backend.maps();
         // With an obstacle the constrained vertices are exactly those off the clamp, in the same
         // order, and the backend reads their values cheaply; without, from the free dofs.
         let constrained_are_off_clamp = free
@@ -289,16 +275,16 @@ impl Stepper {
             .iter()
             .eq(free.vertex_values.iter().flatten());
         [
-            (&self.levels.previous, self.base[0]),
-            (&self.levels.current, self.base[1]),
+            (&self.levels.previous, self.run.base[0]),
+            (&self.levels.current, self.run.base[1]),
         ]
         .map(|(field, z)| {
             let relative: Vec<f64> = if constrained_are_off_clamp {
                 let mut w = vec![0.0; free.constrained.len()];
-                self.backend.constrained_values(field, &mut w);
+                maps.constrained_values(field, &mut w);
                 w
             } else {
-                let w = self.backend.to_free_dofs(field);
+                let w = maps.to_free_dofs(field);
                 free.vertex_values.iter().flatten().map(|&k| w[k]).collect()
             };
             let mut relative = relative.into_iter();
@@ -316,22 +302,22 @@ impl Stepper {
     /// [`Stepper::outputs`] forms u_n (bit for bit).
     pub fn output_point_displacements(&self) -> [[f64; 3]; 2] {
         [
-            (&self.levels.previous, self.base[0]),
-            (&self.levels.current, self.base[1]),
+            (&self.levels.previous, self.run.base[0]),
+            (&self.levels.current, self.run.base[1]),
         ]
-        .map(|(field, z)| self.backend.output_values(field).map(|w| z + w))
+        .map(|(field, z)| self.backend.maps().output_values(field).map(|w| z + w))
     }
 
     /// −G of the last step (N): [`Outputs::base_force`], read in O(1).
     pub fn base_force(&self) -> f64 {
-        self.base_force
+        self.run.base_force
     }
 
     /// J_n = Σ_{j<n} (−G_j) Δt (N·s): the impulse of the force the plate exerts on its base over
     /// the internal steps since t_0, the rectangle rule on the forces of [`Outputs::base_force`]
     /// (the start step's included); [`Outputs::base_impulse`], read in O(1).
     pub fn base_impulse(&self) -> f64 {
-        self.base_impulse
+        self.run.base_impulse
     }
 
     /// Contact forces f_i = μ_i/Δt² at the constrained vertices after the last step (N), with μ
@@ -339,26 +325,26 @@ impl Stepper {
     /// on the lower obstacle, ≤ 0 on the upper one, 0 where the vertex is free. Before the first
     /// step, the static contact forces λ_i of the preload (K w₀ = p₀ f + Bᵀλ).
     pub fn contact_forces(&self) -> &[f64] {
-        &self.forces
+        &self.run.forces
     }
 
     /// Vertices in contact after the last step (at n = 0, of the preload): `active_nodes` of
     /// [`Stepper::outputs`], kept up to date by every step and restore, read without the O(n)
     /// outputs.
     pub fn active_count(&self) -> usize {
-        self.active_count
+        self.run.active_count
     }
 
     /// Set when the preload's contact problem was solved less exactly than normal (clarabel's
     /// answer could not be polished), saying so.
     pub fn initial_warning(&self) -> Option<&str> {
-        self.initial_warning.as_deref()
+        self.run.initial_warning.as_deref()
     }
 
     /// Replaces the settings of the active-set method (default [`PdasSettings::default`]); a cap
     /// on its iterations sends the steps it cannot solve to the clarabel fallback.
     pub fn set_active_set_settings(&mut self, settings: PdasSettings) {
-        self.active_set_settings = settings;
+        self.run.active_set_settings = settings;
     }
 
     /// Changes the obstacle levels (tunable). Both stored levels must lie within the new levels,
@@ -368,20 +354,20 @@ impl Stepper {
     /// it out within one Δt, an arbitrary impulse, so that is refused; and a move that left
     /// z_{n−1} outside the gap would give a state that the stepper itself refuses to restore.
     pub fn set_obstacles(&mut self, lower: f64, upper: f64) -> Result<(), Error> {
-        let mut scene = self.scene.clone();
+        let mut scene = self.run.scene.clone();
         scene.obstacle.lower = lower;
         scene.obstacle.upper = upper;
         scene.validate()?;
         let levels = StoredLevels {
-            step_index: self.step_index,
-            base: self.base,
+            step_index: self.run.step_index,
+            base: self.run.base,
             previous: &self.levels.previous,
             current: &self.levels.current,
         };
         let tolerance = MOVE_BOUND_TOLERANCE * scene.gap();
         match self.model().first_level_outside(&scene, &levels, tolerance) {
             None => {
-                self.scene = scene;
+                self.run.scene = scene;
                 Ok(())
             }
             Some(LevelOutside::Base { error, .. }) => Err(error),
@@ -407,7 +393,7 @@ impl Stepper {
         if !pressure.is_finite() {
             return Err(Error::invalid("load.pressure", pressure, "must be finite"));
         }
-        self.scene.load.pressure = pressure;
+        self.run.scene.load.pressure = pressure;
         Ok(())
     }
 
@@ -420,164 +406,94 @@ impl Stepper {
     /// it must, forms the contact forces, the force on the base and the energy flows, and only
     /// then adopts the new level.
     pub fn step(&mut self, base_next: f64) -> Result<StepReport, Error> {
-        let input = self.predict(base_next)?;
-        let route = self.route(&input);
-        let solved = match route {
-            Route::Screened | Route::Checked => Solved::unconstrained(),
-            Route::Clarabel => self.clarabel_path(&input)?,
-            Route::ActiveSet => self.active_set_path(&input)?,
-        };
-        let closing = self.close(&input, solved.multipliers.as_deref())?;
-        // The step succeeded: from here on nothing fails.
-        Ok(self.accept(&input, route, solved, closing))
-    }
-
-    /// The step's forcing and the unconstrained prediction into the next level; refuses a base
-    /// outside the gap and a prediction that overflows.
-    fn predict(&mut self, base_next: f64) -> Result<StepInput, Error> {
-        let dt = self.scene.solver.time_step;
-        let t_next = (self.step_index + 1) as f64 * dt;
-        check_base(&self.scene, t_next, base_next)?;
-        let start = self.step_index == 0;
-        let [z_prev, z_curr] = self.base;
-        let p_next = self.scene.load.pressure;
-        let forcing = if start {
-            StepForcing {
-                load: 0.25 * dt * dt * (p_next + self.pressure[1]),
-                translation: -(base_next - z_curr),
-                start,
-            }
-        } else {
-            StepForcing {
-                load: 0.5 * dt * dt * (p_next + self.pressure[0]),
-                translation: -(base_next - 2.0 * z_curr + z_prev),
-                start,
-            }
-        };
-        let TimeLevels {
-            previous,
-            current,
-            next,
-        } = &mut self.levels;
-        let sums = self.backend.predict(previous, current, &forcing, next)?;
+        let Stepper {
+            run,
+            backend,
+            levels,
+            history,
+            work,
+        } = self;
+        let input = run.step_input(base_next)?;
+        let prediction = backend.predict(levels, &input.forcing)?;
+        let sums = prediction.sums();
         if !sums.norm_squared.is_finite() {
-            return Err(self.overflow("the unconstrained displacement", t_next, base_next));
+            let what = "the unconstrained displacement";
+            return Err(run.overflow(what, input.t_next, base_next));
         }
-        let obstacles = [
-            self.scene
-                .lower_obstacle()
-                .map_or(f64::NEG_INFINITY, |g| g - base_next),
-            self.scene
-                .upper_obstacle()
-                .map_or(f64::INFINITY, |g| g - base_next),
-        ];
-        Ok(StepInput {
-            base_next,
-            t_next,
-            forcing,
-            obstacles,
-            sums,
-        })
-    }
-
-    /// The contact forces from the multipliers μ of the contact solve, if any, the force on the
-    /// base and the energy flows of the step; refuses the step when any of them, or an output
-    /// after it, is not finite. Changes nothing but the trial forces.
-    fn close(&mut self, input: &StepInput, multipliers: Option<&[f64]>) -> Result<Closing, Error> {
-        let dt = self.scene.solver.time_step;
-        let StepInput {
-            base_next, t_next, ..
-        } = *input;
-        // The step's equation times Δt² is the QP's optimality condition A w − b = Bᵀμ, so
-        // f = μ/Δt²; the start step's equation is multiplied by Δt²/2 (its
-        // 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 gives b_0 = M u_0 + ½Δt²F̄_0), so there
-        // f = 2μ/Δt².
-        let equation_scale = if input.forcing.start { 2.0 } else { 1.0 };
-        let (mut sums, mut contact_force, mut force_magnitude) = (input.sums, 0.0, 0.0);
-        if let Some(mu) = multipliers {
-            sums = self.backend.field_sums(&self.levels.next);
-            for (f, &x) in self.trial_forces.iter_mut().zip(mu) {
-                *f = equation_scale * x / (dt * dt);
-            }
-            contact_force = self.trial_forces.iter().sum();
-            force_magnitude = self.trial_forces.iter().map(|f| f.abs()).sum();
-            if !(sums.norm_squared.is_finite() && force_magnitude.is_finite()) {
-                return Err(self.overflow(
-                    "the displacement or the contact forces of the contact solve",
-                    t_next,
-                    base_next,
-                ));
-            }
-        }
-        self.guard_outputs(sums.norm_squared, base_next, t_next, force_magnitude)?;
-        let base_force = -self.base_supply(base_next, sums.translation, contact_force);
-        let base_impulse = self.base_impulse + base_force * dt;
-        let flows = if input.forcing.start {
-            EnergyFlows::default()
-        } else {
-            // The prediction's damping quadratic holds when the step kept the prediction.
-            let damping = multipliers.map_or(input.sums.damping, |_| None);
-            self.step_flows(base_next, -base_force, multipliers, damping)
+        let route = run.route(
+            &input,
+            prediction,
+            &mut work.values,
+            history,
+            &mut work.trial,
+        );
+        let bounds_evaluated = !matches!(route, Route::Screened(_));
+        // An evaluated prediction that the step accepts unchanged is w_{n+1} at the vertices.
+        let values_kept = matches!(route, Route::Checked(_));
+        let solved = match route {
+            Route::Screened(fields) => Solved::unconstrained(fields),
+            Route::Checked(values) => Solved::unconstrained(values.keep()),
+            Route::Clarabel(values) => run.clarabel_path(&input, values.keep(), &mut work.trial)?,
+            Route::ActiveSet(values) => run.active_set_path(&input, values, &mut work.trial)?,
         };
-        if !(base_force.is_finite() && base_impulse.is_finite() && flows.is_finite()) {
-            return Err(self.overflow(
-                "the force on the base or an energy flow",
-                t_next,
-                base_next,
-            ));
-        }
-        Ok(Closing {
-            sums,
-            contact_force,
-            base_force,
-            base_impulse,
-            flows,
-        })
+        let Solved {
+            path,
+            warning,
+            answer,
+        } = solved;
+        let closing = run.close(&input, sums, answer, &mut work.trial.forces)?;
+        // The step succeeded: from here on nothing fails.
+        let decision = Decision {
+            path,
+            warning,
+            bounds_evaluated,
+            values_kept,
+        };
+        Ok(self.accept(&input, decision, closing))
     }
 
     /// Adopts a step that succeeded: the trial contact states and forces (or none, when the
     /// prediction is u_{n+1}), the new level, and the sums and totals `closing` formed.
-    fn accept(
-        &mut self,
-        input: &StepInput,
-        route: Route,
-        solved: Solved,
-        closing: Closing,
-    ) -> StepReport {
-        let active = match &solved.multipliers {
-            Some(_) => {
-                std::mem::swap(&mut self.forces, &mut self.trial_forces);
-                std::mem::swap(&mut self.states, &mut self.trial_states);
-                self.states.iter().filter(|s| s.is_active()).count()
-            }
-            None => {
-                self.states.fill(BoundState::Free);
-                self.forces.fill(0.0);
+    fn accept(&mut self, input: &StepInput, decision: Decision, closing: Closing) -> StepReport {
+        let Stepper {
+            run,
+            levels,
+            history,
+            work,
+            ..
+        } = self;
+        let active = match decision.path {
+            StepPath::Unconstrained => {
+                run.states.fill(BoundState::Free);
+                run.forces.fill(0.0);
                 0
             }
+            _ => {
+                std::mem::swap(&mut run.forces, &mut work.trial.forces);
+                std::mem::swap(&mut run.states, &mut work.trial.states);
+                run.states.iter().filter(|s| s.is_active()).count()
+            }
         };
-        if let Law::Newton(_) = self.law {
-            // An evaluated prediction that the step accepted unchanged is w_{n+1} at the vertices.
-            let known = route == Route::Checked;
-            self.history.advance(known.then_some(&self.prediction[..]));
+        if let Law::Newton(_) = run.law {
+            history.advance(decision.values_kept.then_some(&work.values[..]));
         }
-        self.levels.accept();
+        levels.accept();
         let Closing { sums, .. } = closing;
-        self.current_norm_squared = sums.norm_squared;
-        let impact = self.active_count == 0 && active > 0;
-        self.active_count = active;
-        self.mass_weighted_sums = [self.mass_weighted_sums[1], sums.translation];
-        self.base_force = closing.base_force;
-        self.base_impulse = closing.base_impulse;
-        self.flows = self.flows.plus(&closing.flows);
-        self.base = [self.base[1], input.base_next];
-        self.pressure = [self.pressure[1], self.scene.load.pressure];
-        self.step_index += 1;
+        run.current_norm_squared = sums.norm_squared;
+        let impact = run.active_count == 0 && active > 0;
+        run.active_count = active;
+        run.mass_weighted_sums = [run.mass_weighted_sums[1], sums.translation];
+        run.base_force = closing.base_force;
+        run.base_impulse = closing.base_impulse;
+        run.flows = run.flows.plus(&closing.flows);
+        run.base = [run.base[1], input.base_next];
+        run.pressure = [run.pressure[1], run.scene.load.pressure];
+        run.step_index += 1;
         StepReport {
             active,
-            path: solved.path,
-            bounds_evaluated: route.bounds_evaluated(),
-            warning: solved.warning,
+            path: decision.path,
+            bounds_evaluated: decision.bounds_evaluated,
+            warning: decision.warning,
             base_force: closing.base_force,
             contact_force: closing.contact_force,
             impact,
@@ -585,103 +501,20 @@ impl Stepper {
         }
     }
 
-    /// G_n, the vertical force the base supplies to the plate in the step being solved, from the
-    /// scheme's equation at t_n tested with the rigid translation 𝟙 (K𝟙 = 0, and 𝟙ᵀC = α(M𝟙)ᵀ is
-    /// the reaction of the mass-proportional dashpots, which act from the base frame, so that G
-    /// is the whole force through the base; docs/scheme.md §11):
-    /// G_n = 𝟙ᵀM(u_{n+1} − 2u_n + u_{n−1})/Δt² − F̄_n∫1 − Σ_i f_i, where 𝟙ᵀMu = M_tot z + m₁ᵀw.
-    /// The start step's equation 2M(u_1 − u_0)/Δt² + K u_1 = F̄_0 + Bᵀf_0 + R_0 gives
-    /// G_0 = 2𝟙ᵀM(u_1 − u_0)/Δt² − F̄_0∫1 − Σ_i f_i. `mass_weighted_next` is m₁ᵀw_{n+1}.
-    fn base_supply(&self, base_next: f64, mass_weighted_next: f64, contact_force: f64) -> f64 {
-        let dt = self.scene.solver.time_step;
-        let (m, area) = (self.free.total_mass, self.free.area);
-        let [z_prev, z_curr] = self.base;
-        let [s_prev, s_curr] = self.mass_weighted_sums;
-        let p_next = self.scene.load.pressure;
-        let (momentum_change, mean_pressure) = if self.step_index == 0 {
-            (
-                2.0 * (m * (base_next - z_curr) + (mass_weighted_next - s_curr)),
-                0.5 * (p_next + self.pressure[1]),
-            )
-        } else {
-            (
-                m * (base_next - 2.0 * z_curr + z_prev)
-                    + (mass_weighted_next - 2.0 * s_curr + s_prev),
-                0.5 * (p_next + self.pressure[0]),
-            )
-        };
-        momentum_change / (dt * dt) - mean_pressure * area - contact_force
-    }
-
-    /// The energy flows of the step being solved (not the start step), with `supply` = G_n and
-    /// the QP multipliers μ of its contact solve, if any: base work
-    /// ½(z_{n+1} − z_{n−1})G_n, load work net of the load potential's change, contact loss
-    /// −½ f_nᵀB(u_{n+1} − u_{n−1}) and damping loss Δwᵀ C Δw / (4Δt) (see [`EnergyFlows`]), whose
-    /// quadratic Δwᵀ C Δw the backend's pass may already have formed (`damping_quadratic`).
-    fn step_flows(
-        &mut self,
-        base_next: f64,
-        supply: f64,
-        multipliers: Option<&[f64]>,
-        damping_quadratic: Option<f64>,
-    ) -> EnergyFlows {
-        let dt = self.scene.solver.time_step;
-        let [z_prev, z_curr] = self.base;
-        let TimeLevels {
-            previous,
-            current,
-            next,
-        } = &self.levels;
-        let stroke = base_next - z_prev;
-        // f = μ/Δt² (2μ/Δt² at the start step, which has no flows), u = z𝟙 + w at the vertices.
-        let contact_loss = match multipliers {
-            Some(mu) => {
-                let relative = self.backend.multiplier_work(next, previous, mu) / (dt * dt);
-                -0.5 * (stroke * self.trial_forces.iter().sum::<f64>() + relative)
-            }
-            None => 0.0,
-        };
-        let [p_prev, p_curr] = self.pressure;
-        let p_next = self.scene.load.pressure;
-        let load_work = if p_prev == 0.0 && p_curr == 0.0 && p_next == 0.0 {
-            0.0
-        } else {
-            // L_k = Fᵀu_k for a 1 Pa pressure = z_k∫1 + fᵀw_k.
-            let area = self.free.area;
-            let l_next = area * base_next + self.backend.load_projection(next);
-            let l_curr = area * z_curr + self.backend.load_projection(current);
-            let l_prev = area * z_prev + self.backend.load_projection(previous);
-            0.25 * (p_next + p_prev) * (l_next - l_prev) - 0.5 * p_next * (l_next + l_curr)
-                + 0.5 * p_curr * (l_curr + l_prev)
-        };
-        let damping_loss = if self.free.damping.is_zero() {
-            0.0
-        } else {
-            damping_quadratic.unwrap_or_else(|| self.backend.damping_quadratic(next, previous))
-                / (4.0 * dt)
-        };
-        EnergyFlows {
-            base_work: 0.5 * stroke * supply,
-            load_work,
-            contact_loss,
-            damping_loss,
-        }
-    }
-
     /// Outputs after the last step, evaluated on demand (O(n): a host that reads them at its
     /// communication points only does not pay for them at every internal step).
     pub fn outputs(&self) -> Outputs {
-        let active_nodes = self.states.iter().filter(|s| s.is_active()).count();
-        let contact_force = self.forces.iter().sum();
+        let active_nodes = self.run.states.iter().filter(|s| s.is_active()).count();
+        let contact_force = self.run.forces.iter().sum();
         // The pressure that acted on the last step, not one set since for the next.
         let (energy, [a, b, c]) = self.model().energy_and_values(
             &self.levels.previous,
             &self.levels.current,
-            self.base,
-            self.pressure[1],
-            self.step_index == 0,
+            self.run.base,
+            self.run.pressure[1],
+            self.run.step_index == 0,
         );
-        let z = self.base[1];
+        let z = self.run.base[1];
         Outputs {
             corner1: z + a,
             corner2: z + b,
@@ -691,41 +524,36 @@ impl Stepper {
             energy_total: energy.total,
             active_nodes,
             contact_force,
-            base_force: self.base_force,
-            base_impulse: self.base_impulse,
-            base_work: self.flows.base_work,
-            load_work: self.flows.load_work,
-            contact_loss: self.flows.contact_loss,
-            damping_loss: self.flows.damping_loss,
+            base_force: self.run.base_force,
+            base_impulse: self.run.base_impulse,
+            base_work: self.run.flows.base_work,
+            load_work: self.run.flows.load_work,
+            contact_loss: self.run.flows.contact_loss,
+            damping_loss: self.run.flows.damping_loss,
         }
     }
 
     /// The dynamic state, for FMU get/set/serialize.
     pub fn state(&self) -> State {
         State {
-            scene: self.scene.clone(),
-            backend: self.linear,
-            step_index: self.step_index,
-            base: self.base,
-            pressure: self.pressure,
+            scene: self.run.scene.clone(),
+            backend: self.run.linear,
+            step_index: self.run.step_index,
+            base: self.run.base,
+            pressure: self.run.pressure,
             previous: self.levels.previous.clone(),
             current: self.levels.current.clone(),
-            active_set: self.states.iter().map(|s| state_code(*s)).collect(),
-            forces: self.forces.clone(),
-            base_force: self.base_force,
-            base_impulse: self.base_impulse,
-            flows: self.flows,
+            active_set: self.run.states.iter().map(|s| state_code(*s)).collect(),
+            forces: self.run.forces.clone(),
+            base_force: self.run.base_force,
+            base_impulse: self.run.base_impulse,
+            flows: self.run.flows,
         }
     }
 
     /// The model a state is checked against ([`Model::check`]).
     fn model(&self) -> Model<'_> {
-        Model {
-            scene: &self.scene,
-            linear: self.linear,
-            backend: &*self.backend,
-            free: &self.free,
-        }
+        self.run.model(self.backend.maps())
     }
 
     /// Checks a state against this stepper ([`State`], with every check listed at
@@ -756,25 +584,81 @@ impl Stepper {
         self.levels.previous.copy_from_slice(&state.previous);
         self.levels.current.copy_from_slice(&state.current);
         self.levels.next.copy_from_slice(&state.current);
-        let sums = self.backend.field_sums(&self.levels.current);
-        self.current_norm_squared = sums.norm_squared;
-        self.mass_weighted_sums = [
-            self.backend.field_sums(&self.levels.previous).translation,
+        let maps = self.backend.maps();
+        let sums = maps.field_sums(&self.levels.current);
+        self.run.current_norm_squared = sums.norm_squared;
+        self.run.mass_weighted_sums = [
+            maps.field_sums(&self.levels.previous).translation,
             sums.translation,
         ];
-        self.active_count = states.iter().filter(|s| s.is_active()).count();
-        self.base_force = state.base_force;
-        self.base_impulse = state.base_impulse;
-        self.flows = state.flows;
-        let qp = self.scene.solver.qp;
-        self.scene = state.scene.clone();
-        self.scene.solver.qp = qp;
-        self.step_index = state.step_index;
-        self.base = state.base;
-        self.pressure = state.pressure;
+        self.run.active_count = states.iter().filter(|s| s.is_active()).count();
+        self.run.base_force = state.base_force;
+        self.run.base_impulse = state.base_impulse;
+        self.run.flows = state.flows;
+        let qp = self.run.scene.solver.qp;
+        self.run.scene = state.scene.clone();
+        self.run.scene.solver.qp = qp;
+        self.run.step_index = state.step_index;
+        self.run.base = state.base;
+        self.run.pressure = state.pressure;
         self.history.forget();
-        self.states = states;
-        self.forces.copy_from_slice(&state.forces);
+        self.run.states = states;
+        self.run.forces.copy_from_slice(&state.forces);
+    }
+}
+
+impl Run {
+    /// t_n = n Δt (s).
+    fn time(&self) -> f64 {
+        self.step_index as f64 * self.scene.solver.time_step
+    }
+
+    /// The model a state is checked against ([`Model::check`]), with the backend's field maps.
+    fn model<'a>(&'a self, maps: FieldMaps<'a>) -> Model<'a> {
+        Model {
+            scene: &self.scene,
+            linear: self.linear,
+            maps,
+            free: &self.free,
+        }
+    }
+
+    /// The step to `base_next`: its time, forcing and obstacles relative to the base; refuses a
+    /// base outside the gap.
+    fn step_input(&self, base_next: f64) -> Result<StepInput, Error> {
+        let dt = self.scene.solver.time_step;
+        let t_next = (self.step_index + 1) as f64 * dt;
+        check_base(&self.scene, t_next, base_next)?;
+        let start = self.step_index == 0;
+        let [z_prev, z_curr] = self.base;
+        let p_next = self.scene.load.pressure;
+        let forcing = if start {
+            StepForcing {
+                load: 0.25 * dt * dt * (p_next + self.pressure[1]),
+                translation: -(base_next - z_curr),
+                start,
+            }
+        } else {
+            StepForcing {
+                load: 0.5 * dt * dt * (p_next + self.pressure[0]),
+                translation: -(base_next - 2.0 * z_curr + z_prev),
+                start,
+            }
+        };
+        let obstacles = [
+            self.scene
+                .lower_obstacle()
+                .map_or(f64::NEG_INFINITY, |g| g - base_next),
+            self.scene
+                .upper_obstacle()
+                .map_or(f64::INFINITY, |g| g - base_next),
+        ];
+        Ok(StepInput {
+            base_next,
+            t_next,
+            forcing,
+            obstacles,
+        })
     }
 }
 

@@ -99,13 +99,11 @@ impl Fmi3Host {
         }
     }
 
-    /// The call, as [`Host::run`].
+    /// The call, as [`Host::run`]: one `match` arm per [`Op`], each a single FMI call (the longer
+    /// ones in a method of their own), side by side with the FMI 2.0 host's.
     ///
     /// # Safety
     /// `self.c` is a live instance (it is, from `new` to `drop`).
-    ///
-    /// Long (~130 lines) because it is one `match` arm per [`Op`], each a single FMI call: the
-    /// arms are independent and read best side by side with the FMI 2.0 host's.
     unsafe fn call(&mut self, op: &Op) -> Option<fmi3Status> {
         let c = self.c;
         // SAFETY: every array passed has the length passed with it; states are live or null.
@@ -161,37 +159,7 @@ impl Fmi3Host {
                     let (r, v): (Vec<u32>, Vec<bool>) = items.iter().copied().unzip();
                     fmi3SetBoolean(c, r.as_ptr(), r.len(), v.as_ptr(), v.len())
                 }
-                Op::DoStep(k, wrong_time) => {
-                    let (t, dt) = if self.configuring {
-                        (self.experiment.0, 1e-4)
-                    } else {
-                        (
-                            self.float64(vr::TIME, 0.0),
-                            self.float64(vr::SOLVER_TIME_STEP, 1e-4),
-                        )
-                    };
-                    let t = t + if *wrong_time { 0.25 } else { 0.0 };
-                    let (mut event, mut terminate, mut early) = (true, true, true);
-                    let mut last = f64::NAN;
-                    let status = fmi3DoStep(
-                        c,
-                        t,
-                        k * dt,
-                        false,
-                        &mut event,
-                        &mut terminate,
-                        &mut early,
-                        &mut last,
-                    );
-                    if status == OK {
-                        assert!(
-                            last.is_finite() && !event && !terminate,
-                            "fmi3DoStep OK with lastSuccessfulTime = {last}, \
-                             eventHandlingNeeded = {event}, terminateSimulation = {terminate}"
-                        );
-                    }
-                    status
-                }
+                Op::DoStep(k, wrong_time) => self.do_step(*k, *wrong_time),
                 Op::Derivative(order, _) => {
                     let mut x = f64::NAN;
                     let status =
@@ -208,18 +176,7 @@ impl Fmi3Host {
                     Some(bytes) => self.deserialize(&bytes, *i),
                     None => ERROR,
                 },
-                Op::CorruptState(i, at, x) => match self.serialize(self.states[*i]) {
-                    Some(mut bytes) => {
-                        let n = bytes.len();
-                        bytes[at % n] ^= x;
-                        let mut s: fmi3FMUState = std::ptr::null_mut();
-                        let status = fmi3DeserializeFMUState(c, bytes.as_ptr(), n, &mut s);
-                        assert!(s.is_null() || status == OK, "a refused state was stored");
-                        fmi3FreeFMUState(c, &mut s);
-                        status
-                    }
-                    None => ERROR,
-                },
+                Op::CorruptState(i, at, x) => self.deserialize_corrupted(*i, *at, *x),
                 Op::Deserialize(i, bytes) => self.deserialize(bytes, *i),
                 Op::Logging(on, bad) => {
                     let names = [
@@ -232,6 +189,69 @@ impl Fmi3Host {
             }
         };
         Some(status)
+    }
+
+    /// fmi3DoStep over `k` internal steps from the instance's time (shifted by 0.25 s when
+    /// `wrong_time`, which the FMU must refuse); an OK step must report a finite last time and
+    /// neither an event nor termination.
+    ///
+    /// # Safety
+    /// As [`Fmi3Host::call`].
+    unsafe fn do_step(&self, k: f64, wrong_time: bool) -> fmi3Status {
+        let (t, dt) = if self.configuring {
+            (self.experiment.0, 1e-4)
+        } else {
+            (
+                self.float64(vr::TIME, 0.0),
+                self.float64(vr::SOLVER_TIME_STEP, 1e-4),
+            )
+        };
+        let t = t + if wrong_time { 0.25 } else { 0.0 };
+        let (mut event, mut terminate, mut early) = (true, true, true);
+        let mut last = f64::NAN;
+        // SAFETY: every out-pointer is a live local.
+        let status = unsafe {
+            fmi3DoStep(
+                self.c,
+                t,
+                k * dt,
+                false,
+                &mut event,
+                &mut terminate,
+                &mut early,
+                &mut last,
+            )
+        };
+        if status == OK {
+            assert!(
+                last.is_finite() && !event && !terminate,
+                "fmi3DoStep OK with lastSuccessfulTime = {last}, \
+                 eventHandlingNeeded = {event}, terminateSimulation = {terminate}"
+            );
+        }
+        status
+    }
+
+    /// Serializes the state of slot `i`, flips the bits `x` of its byte `at` (modulo its length)
+    /// and deserializes it into a fresh state, which is freed: a refused payload must store
+    /// nothing.
+    ///
+    /// # Safety
+    /// As [`Fmi3Host::call`].
+    unsafe fn deserialize_corrupted(&self, i: usize, at: usize, x: u8) -> fmi3Status {
+        let Some(mut bytes) = self.serialize(self.states[i]) else {
+            return ERROR;
+        };
+        let n = bytes.len();
+        bytes[at % n] ^= x;
+        let mut s: fmi3FMUState = std::ptr::null_mut();
+        // SAFETY: the buffer holds `n` bytes; `s` is a null state that the call may fill.
+        unsafe {
+            let status = fmi3DeserializeFMUState(self.c, bytes.as_ptr(), n, &mut s);
+            assert!(s.is_null() || status == OK, "a refused state was stored");
+            fmi3FreeFMUState(self.c, &mut s);
+            status
+        }
     }
 
     /// The value of the scalar `v` (status and bits).

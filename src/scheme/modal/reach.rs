@@ -13,7 +13,7 @@
 //! * δ ≤ r_min − g_max D,
 //!
 //! with g_min, g_max the extremes over the rows that are not zero (a zero row holds its vertex at
-//! the base, which [`check_base`](crate::scheme::stepper::check_base) keeps strictly inside the
+//! the base, which [`check_base`](crate::scheme::state::check_base) keeps strictly inside the
 //! gap). D comes from the step's fused pass ([`super::pass`]) at the cost of one subtraction, one
 //! product and one multiply-add per mode. At small time steps a vertex moves by a tiny fraction
 //! of its margin per step, so one proof covers tens to hundreds of steps, each of which then does

@@ -1,10 +1,13 @@
-//! The guards of a step: the base inside the gap, the contact solve's answer within its bounds,
-//! and the overflow tests that refuse a step whose result or outputs are not finite. Each refusal
-//! leaves the stepper unchanged, still at t_n.
+//! The guards of a step: the contact solve's answer within its bounds, and the overflow tests that
+//! refuse a step whose result or outputs are not finite. Each refusal leaves the stepper unchanged,
+//! still at t_n. (The base inside the gap is checked by
+//! [`check_base`](super::super::state::check_base).)
 
-use super::{Stepper, TimeLevels};
+use super::workspace::Trial;
+use super::Run;
 use crate::error::Error;
-use crate::scene::{ObstacleSide, Scene};
+use crate::scene::ObstacleSide;
+use crate::scheme::backend::StepFields;
 
 /// Relative tolerance of the bounds on the active-set method's answer, as a fraction of the gap
 /// (g2 − g1, or |g| with one obstacle), before the step accepts it. An exact solve puts an active
@@ -18,23 +21,6 @@ use crate::scene::{ObstacleSide, Scene};
 ///
 /// [`RESTORE_BOUND_TOLERANCE`]: super::RESTORE_BOUND_TOLERANCE
 pub(super) const ACTIVE_SET_BOUND_TOLERANCE: f64 = 1e-9;
-
-/// The base must stay strictly inside the gap (docs/model.md).
-pub(in crate::scheme) fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
-    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
-    let inside =
-        base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
-    if inside {
-        Ok(())
-    } else {
-        Err(Error::BaseOutsideGap {
-            time,
-            base,
-            lower,
-            upper,
-        })
-    }
-}
 
 /// A constrained vertex of a step's answer found past its bound of that step.
 #[derive(Clone, Copy, Debug)]
@@ -68,13 +54,18 @@ impl PastBound {
     }
 }
 
-impl Stepper {
-    /// The first constrained vertex of the next level (the contact solve's answer) that lies past
-    /// its bound of this step by more than `tolerance` (m), lower bounds first; a non-finite value
-    /// counts as past.
-    pub(super) fn first_past_bound(&mut self, tolerance: f64) -> Option<PastBound> {
-        self.backend
-            .constrained_values(&self.levels.next, &mut self.solved);
+impl Trial {
+    /// The first constrained vertex of the next level of `fields` (the contact solve's answer)
+    /// that lies past its bound of this step by more than `tolerance` (m), lower bounds first; a
+    /// non-finite value counts as past.
+    pub(super) fn first_past_bound(
+        &mut self,
+        fields: &StepFields,
+        tolerance: f64,
+    ) -> Option<PastBound> {
+        fields
+            .maps
+            .constrained_values(fields.next, &mut self.solved);
         let solved = &self.solved;
         let find = |side, bound: &[f64], inside: &dyn Fn(f64, f64) -> bool| {
             (0..solved.len())
@@ -95,14 +86,16 @@ impl Stepper {
             })
         })
     }
+}
 
+impl Run {
     /// Whether the outputs after a step to `base_next`, whose new field has squared norm
     /// `norm_squared` and whose contact forces sum to `force_magnitude` in absolute value, are
     /// finite for certain: each output is a sum of at most five products of at most three factors,
-    /// each factor bounded by c·N ([`LinearBackend::magnitude_scale`]) or by the largest of the
+    /// each factor bounded by c·N ([`FieldMaps::magnitude_scale`]) or by the largest of the
     /// base and load data; below 1e100 for all of them, no output can reach 1e308.
     ///
-    /// [`LinearBackend::magnitude_scale`]: super::LinearBackend::magnitude_scale
+    /// [`FieldMaps::magnitude_scale`]: crate::scheme::backend::FieldMaps::magnitude_scale
     fn outputs_provably_finite(
         &self,
         norm_squared: f64,
@@ -127,11 +120,12 @@ impl Stepper {
         fields <= 1e100 && data.iter().all(|&v| v <= 1e100)
     }
 
-    /// Refuses a step whose energy or outputs after it would not be finite. Cheap when
-    /// [`Stepper::outputs_provably_finite`] proves them finite; otherwise they are evaluated, at
-    /// O(n).
+    /// Refuses a step whose energy or outputs after it (its next level in `fields`) would not be
+    /// finite. Cheap when [`Run::outputs_provably_finite`] proves them finite; otherwise they are
+    /// evaluated, at O(n).
     pub(super) fn guard_outputs(
         &self,
+        fields: &StepFields,
         norm_squared: f64,
         base_next: f64,
         t_next: f64,
@@ -140,12 +134,15 @@ impl Stepper {
         if self.outputs_provably_finite(norm_squared, base_next, force_magnitude) {
             return Ok(());
         }
-        let TimeLevels { current, next, .. } = &self.levels;
         let z_curr = self.base[1];
         let p_next = self.scene.load.pressure;
-        let (energy, values) =
-            self.model()
-                .energy_and_values(current, next, [z_curr, base_next], p_next, false);
+        let (energy, values) = self.model(fields.maps).energy_and_values(
+            fields.current,
+            fields.next,
+            [z_curr, base_next],
+            p_next,
+            false,
+        );
         let reported = [
             energy.kinetic,
             energy.elastic,

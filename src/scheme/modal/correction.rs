@@ -1,0 +1,143 @@
+//! The modal contact solve: the active-set method on the precomputed Delassus operator
+//! W = C D⁻¹ Cᵀ from the prediction's values, repeated while its answer reaches a stand-in
+//! ([`Screening::reached_stand_ins`](super::screening::Screening::reached_stand_ins)), then the
+//! correction q_{n+1} = q* + D⁻¹Cᵀμ and the multipliers' work μᵀC(q_{n+1} − q_{n−1}) from it.
+
+use super::{Corrected, Valued};
+use crate::contact::{ActiveSetSolver, BoundState, PdasReport, PdasSettings};
+
+/// The contact solve's workspace and the active-set method, whose factor of the active block
+/// carries over from step to step.
+#[derive(Clone, Debug)]
+pub(super) struct Corrector {
+    /// The contact solve's y*: the values handed to it, with the stand-ins it reached replaced
+    /// by the exact values.
+    y_star: Vec<f64>,
+    /// q* = the prediction, kept by a solve that corrected it (then q_{n+1} − q* = D⁻¹Cᵀμ).
+    unconstrained: Vec<f64>,
+    /// The active-set method on W, with the factor of its active block.
+    active_set: ActiveSetSolver,
+}
+
+impl Corrector {
+    /// The workspace of `m` constrained vertices and `n` modes.
+    pub(super) fn new(m: usize, n: usize) -> Corrector {
+        Corrector {
+            y_star: Vec::with_capacity(m),
+            unconstrained: vec![0.0; n],
+            active_set: ActiveSetSolver::new(),
+        }
+    }
+}
+
+impl<'a> Valued<'a> {
+    /// Solves the step's QP from the prediction `next` = q* whose constrained values (with
+    /// stand-ins) are `values`: the active-set method on the precomputed W, then
+    /// q_{n+1} = q* + D⁻¹Cᵀμ, a sum over the active columns of D⁻¹Cᵀ, written into `next`.
+    /// Returns the report and, when it [is solved](crate::contact::PdasStatus::is_solved), the
+    /// corrected stage; otherwise `next` is unchanged.
+    pub(in crate::scheme) fn solve(
+        self,
+        next: &mut [f64],
+        values: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+    ) -> (PdasReport, Option<Corrected<'a>>) {
+        let Valued { step, stand_ins } = self;
+        let system = step.data.system(step.start);
+        let Corrector {
+            y_star,
+            unconstrained,
+            active_set,
+        } = &mut *step.corrector;
+        y_star.clear();
+        y_star.extend_from_slice(values);
+        let report = loop {
+            let report = active_set.solve(
+                &mut &system.delassus,
+                y_star,
+                lower,
+                upper,
+                states,
+                settings,
+            );
+            if !(report.status.is_solved()
+                && stand_ins
+                && step.screening.reached_stand_ins(
+                    step.data,
+                    next,
+                    active_set.y(),
+                    [lower, upper],
+                    states,
+                    y_star,
+                ))
+            {
+                break report;
+            }
+        };
+        if !report.status.is_solved() {
+            return (report, None);
+        }
+        unconstrained.copy_from_slice(next);
+        let multipliers = active_set.lambda();
+        let column = |i: usize| {
+            system
+                .c_t_scaled
+                .col(i)
+                .try_as_col_major()
+                .expect("owned matrices are column-major")
+                .as_slice()
+        };
+        let mut active = states
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.is_active())
+            .map(|(i, _)| (multipliers[i], column(i)));
+        // Four active columns per pass over q: each q_k receives the same additions in the
+        // same order as one pass per column would give it (Rust contracts no a + b·c into
+        // a fused multiply-add), so q_{n+1} is bit-identical, with a quarter of the loads
+        // and stores of q.
+        loop {
+            match [active.next(), active.next(), active.next(), active.next()] {
+                [Some((m0, c0)), Some((m1, c1)), Some((m2, c2)), Some((m3, c3))] => {
+                    let columns = c0.iter().zip(c1).zip(c2.iter().zip(c3));
+                    for (q, ((&a, &b), (&c, &d))) in next.iter_mut().zip(columns) {
+                        *q = *q + m0 * a + m1 * b + m2 * c + m3 * d;
+                    }
+                }
+                rest => {
+                    for (m, c) in rest.into_iter().flatten() {
+                        for (q, &c) in next.iter_mut().zip(c) {
+                            *q += m * c;
+                        }
+                    }
+                    break;
+                }
+            }
+        }
+        (report, Some(Corrected { step }))
+    }
+}
+
+impl Corrected<'_> {
+    /// The multipliers μ (length m) of the solve.
+    pub(in crate::scheme) fn multipliers(&self) -> &[f64] {
+        self.step.corrector.active_set.lambda()
+    }
+
+    /// μᵀC(x − y) with x = `next` = q_{n+1} of the solve and y = `previous`:
+    /// (Cᵀμ)ᵀ(x − y) = Σ_k d_k (q_{n+1} − q*)_k (x − y)_k, one contiguous pass, which uses up q*.
+    pub(in crate::scheme) fn work(self, next: &[f64], previous: &[f64]) -> f64 {
+        let step = self.step;
+        let d = &step.data.system(step.start).d;
+        let unconstrained = &mut step.corrector.unconstrained;
+        // Cᵀμ = D(q_{n+1} − q*), formed in place of q*.
+        for ((star, &x), &d) in unconstrained.iter_mut().zip(next).zip(d) {
+            *star = d * (x - *star);
+        }
+        let scaled = faer::ColRef::from_slice(unconstrained).transpose();
+        scaled * faer::ColRef::from_slice(next) - scaled * faer::ColRef::from_slice(previous)
+    }
+}
