@@ -406,10 +406,10 @@ fn drop_pair(pair: &Pair, e: f64, dt: f64, duration: f64, rule: BoundRule) -> Pa
 /// fall together (the spring unstretched) until the lower one reaches the floor at t = √(2h/g)
 /// with speed √(2gh), which the scheme's flight reproduces exactly, so the first impact is at
 /// the last step t_n before t and the rebound speed is the mean speed of the step before it, the
-/// speed at t_n − Δt/2, within 1.5 gΔt of √(2gh); the discrete energy is conserved to the round-off of differences of positions over
-/// 3000 steps (each step's velocity carries about 1e-18 m / Δt, so 1e-14 of E; its random walk
-/// over 3000 steps stays below 1e-12, checked at 1e-10), and the lower mass never passes the
-/// floor (beyond the round-off of y* + Wμ).
+/// speed at t_n − Δt/2, within 1.5 gΔt of √(2gh); the discrete energy is conserved to the
+/// round-off of differences of positions over 3000 steps (each step's velocity carries about
+/// 1e-18 m / Δt, so 1e-14 of E; its random walk over 3000 steps stays below 1e-12, checked at
+/// 1e-10), and the lower mass never passes the floor (beyond the round-off of y* + Wμ).
 #[test]
 fn two_masses_keep_their_energy_at_e_1_where_newtons_law_loses_it() {
     const G: f64 = 9.81;
@@ -902,8 +902,8 @@ fn every_contact_obeys_its_law_and_does_no_positive_work() {
 /// 1 s at Δt = 1e-4 s; the base moves in the last three), to the round-off of its terms: each is
 /// ½ f_i (u_{n+1,i} − u_{n−1,i}) with the difference at the round-off of positions, some 1e-17 m
 /// against forces of 1e4 N, and a few hundred contact steps sum to at most 1e-11 J (measured
-/// at most 2.6e-12 J, in `forced-30hz`); checked at 1e-10 J. Newton's law removes energy in each of them (at contacts
-/// that are not closing).
+/// at most 2.6e-12 J, in `forced-30hz`); checked at 1e-10 J. Newton's law removes energy in each
+/// of them (at contacts that are not closing).
 #[test]
 fn contact_loss_vanishes_at_e_1_in_every_scene_without_damping() {
     for name in ["energy", "forced", "forced-30hz", "forced-35hz"] {

@@ -125,10 +125,8 @@ struct Watch {
     turn: f64,
     turn_closing: f64,
     turn_other: f64,
-    /// Over the closing contacts: the largest arriving speed |v_{n−½}| (m/s), and the largest
-    /// turn height per step's travel, (u_n − g)/|u_n − u_{n−1}|.
+    /// The largest arriving speed |v_{n−½}| at a closing contact (m/s).
     fastest_arrival: f64,
-    turn_per_travel: f64,
     /// The largest height u_{n+1} above its obstacle at which a force held a vertex (m).
     held: f64,
     /// Vertex-steps held above the obstacle in the second or a later consecutive step (hovering),
@@ -169,7 +167,6 @@ impl Watch {
             turn_closing: 0.0,
             turn_other: 0.0,
             fastest_arrival: 0.0,
-            turn_per_travel: 0.0,
             held: 0.0,
             hover_steps: 0,
             hover: 0.0,
@@ -212,7 +209,6 @@ impl Watch {
             if height(self.previous[i]) < height(self.older[i]) {
                 self.turn_closing = self.turn_closing.max(turn);
                 self.fastest_arrival = self.fastest_arrival.max(travel / dt);
-                self.turn_per_travel = self.turn_per_travel.max(height(self.previous[i]) / travel);
             } else {
                 self.turn_other = self.turn_other.max(turn);
             }
@@ -261,7 +257,6 @@ impl Watch {
             "turn_closing": self.turn_closing,
             "turn_other": self.turn_other,
             "fastest_arrival": self.fastest_arrival,
-            "turn_per_travel": self.turn_per_travel,
             "held": self.held,
             "hover": self.hover,
             "hover_steps": self.hover_steps,
@@ -496,29 +491,39 @@ fn through_the_fmu(scene: &Scene) -> Result<[f64; 3], String> {
 }
 
 /// `fmu_energy.csv`: |E(1 s)/E(Δt) − 1| of the `energy` scene at e = 1 through the FMU at
-/// Δt = 1e-4, 5e-5, 2.5e-5 and 1e-5 s (quick: 1e-4 s over 0.1 s).
+/// Δt = 1e-4, 5e-5, 2.5e-5, 1e-5 and 1e-6 s, with the lower obstacle and, for the scheme's own
+/// round-off, without it (quick: 1e-4 s over 0.1 s).
 fn fmu_energy(quick: bool) -> Result<String, String> {
     let (steps, stop): (&[f64], f64) = if quick {
         (&[1e-4], 0.1)
     } else {
-        (&[1e-4, 5e-5, 2.5e-5, 1e-5], 1.0)
+        (&[1e-4, 5e-5, 2.5e-5, 1e-5, 1e-6], 1.0)
     };
-    let mut csv =
-        String::from("dt,stop_s,energy_first_J,energy_last_J,relative_change,contact_loss_J\n");
+    let mut csv = String::from(
+        "dt,obstacle,stop_s,energy_first_J,energy_last_J,relative_change,contact_loss_J\n",
+    );
     for &dt in steps {
-        let scene = energy_scene(1.0, ImpactLaw::Auto, dt, stop);
-        let [first, last, loss] = through_the_fmu(&scene)?;
-        let change = (last / first - 1.0).abs();
-        println!("FMU, e = 1, Δt = {dt:e} s: E {first} → {last} J, |E(1 s)/E(Δt) − 1| = {change:.1e}, contact loss {loss:.1e} J");
-        writeln!(csv, "{dt:e},{stop},{first:e},{last:e},{change:e},{loss:e}").expect("a String");
+        for obstacle in [true, false] {
+            let mut scene = energy_scene(1.0, ImpactLaw::Auto, dt, stop);
+            scene.obstacle.lower_enabled = obstacle;
+            let [first, last, loss] = through_the_fmu(&scene)?;
+            let change = (last / first - 1.0).abs();
+            println!(
+                "FMU, e = 1, Δt = {dt:e} s, obstacle {obstacle}: E {first} → {last} J, \
+                 |E(1 s)/E(Δt) − 1| = {change:.1e}, contact loss {loss:.1e} J"
+            );
+            let row = format!("{dt:e},{obstacle},{stop},{first:e},{last:e},{change:e},{loss:e}");
+            writeln!(csv, "{row}").expect("a String");
+        }
     }
     Ok(csv)
 }
 
 /// The header of a run's row, and its values from [`Watch::summary`].
-const RUN_COLUMNS: &str = "energy_first_J,energy_last_J,relative_change,worst_rise_J,contact_loss_J,\
-penetration_m,turn_m,turn_closing_m,turn_other_m,fastest_arrival_m_s,turn_per_travel,held_m,hover_m,hover_steps,longest_hold,contact_vertex_steps,\
-on_obstacle_vertex_steps,contact_steps,resolved_steps,resolves,largest_contact_work_J,work_scale_J";
+const RUN_COLUMNS: &str = "energy_first_J,energy_last_J,relative_change,worst_rise_J,\
+contact_loss_J,penetration_m,turn_m,turn_closing_m,turn_other_m,fastest_arrival_m_s,held_m,\
+hover_m,hover_steps,longest_hold,contact_vertex_steps,on_obstacle_vertex_steps,contact_steps,\
+resolved_steps,resolves,largest_contact_work_J,work_scale_J";
 
 fn run_values(s: &serde_json::Value) -> String {
     let first = s["energy_first"].as_f64().unwrap_or(f64::NAN);
@@ -531,7 +536,6 @@ fn run_values(s: &serde_json::Value) -> String {
         "turn_closing",
         "turn_other",
         "fastest_arrival",
-        "turn_per_travel",
         "held",
         "hover",
         "hover_steps",
@@ -554,8 +558,8 @@ fn run_values(s: &serde_json::Value) -> String {
 
 /// `runs.csv`: the `energy` scene over 1 s under the laws `auto` (the persistent law for e > 0,
 /// the paper's at e = 0), `newton` and `persistent` at Δt = 1e-4 s for e ∈ {0, 0.25, 0.5, 0.75,
-/// 0.9, 1}, and under `auto` and `newton` for e ∈ {0.5, 0.9, 1} at Δt = 5e-5, 2.5e-5 and 1e-5 s
-/// (quick: e = 1 at 1e-4 s over 0.1 s).
+/// 0.9, 1}, under `auto` and `newton` for e ∈ {0.5, 0.9, 1} at Δt = 5e-5, 2.5e-5 and 1e-5 s, and
+/// for e = 1 at 5e-6, 2.5e-6 and 1e-6 s (quick: e = 1 at 1e-4 s over 0.1 s).
 fn energy_runs(quick: bool) -> Result<String, String> {
     let laws = [ImpactLaw::Auto, ImpactLaw::Newton, ImpactLaw::Persistent];
     let mut cases = Vec::new();
@@ -569,6 +573,9 @@ fn energy_runs(quick: bool) -> Result<String, String> {
             for e in [0.5, 0.9, 1.0] {
                 cases.extend(laws[..2].iter().map(|&law| (law, e, dt)));
             }
+        }
+        for dt in [5e-6, 2.5e-6, 1e-6] {
+            cases.extend(laws[..2].iter().map(|&law| (law, 1.0, dt)));
         }
     }
     let stop = if quick { 0.1 } else { 1.0 };
@@ -845,8 +852,8 @@ fn series_rows(
     let order =
         |f: fn(&Errors) -> f64| observed_order(&xs, &errors.iter().map(f).collect::<Vec<_>>());
     println!(
-        "{} {:?}: observed orders: E(Δt) {:.2}, corner to the first contact {:.2}, to 0.05 s {:.2}, \
-         to 0.2 s {:.2}, to 1 s {:.2}",
+        "{} {:?}: observed orders: E(Δt) {:.2}, corner to the first contact {:.2}, \
+         to 0.05 s {:.2}, to 0.2 s {:.2}, to 1 s {:.2}",
         settings[0].0,
         settings[0].1,
         order(|e| e.energy),

@@ -117,10 +117,11 @@ pub fn newton_bounds(
 ///
 /// lo = u_{n−1} − (1 − e)(u_{n−1} − ℓ),   ℓ = u_n if u_n < u_{n−1} (closing), else g1,
 ///
-/// i.e. Newton's rebound bound u_n − e (u_n − u_{n−1}) at a closing contact and g1 + e (u_{n−1} − g1)
-/// at a vertex at rest or receding; exactly u_{n−1} at e = 1. Kept within [g1, `upper`] (`upper`
-/// = g2, `None` when absent), so that g1 ≤ lo ≤ g2 for any input (a restored state may lie past
-/// an obstacle by its tolerance); for levels within the obstacles g1 ≤ lo ≤ u_{n−1}.
+/// i.e. Newton's rebound bound u_n − e (u_n − u_{n−1}) at a closing contact and
+/// g1 + e (u_{n−1} − g1) at a vertex at rest or receding; exactly u_{n−1} at e = 1. Kept within
+/// [g1, `upper`] (`upper` = g2, `None` when absent), so that g1 ≤ lo ≤ g2 for any input (a
+/// restored state may lie past an obstacle by its tolerance); for levels within the obstacles
+/// g1 ≤ lo ≤ u_{n−1}.
 pub fn persistent_lower_bound(
     restitution: f64,
     lower: f64,
