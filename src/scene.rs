@@ -75,11 +75,14 @@ pub enum LinearChoice {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ImpactLaw {
-    /// The paper's position law for e = 0 (the bound g on u_{n+1}), Newton's law on the
-    /// half-step velocities for e > 0.
+    /// The paper's position law for e = 0 (the bound g on u_{n+1}), the persistent law for e > 0.
     Auto,
-    /// Newton's law for every e, e = 0 included: to compare it with the paper's scheme.
+    /// Newton's law on the half-step velocities at closing contacts and the obstacle at the
+    /// others, for every e: the law before the persistent one, kept to compare with it.
     Newton,
+    /// The persistent law for every e, e = 0 included: Newton's law at closing contacts and
+    /// u_{n+1} ≥ g + e (u_{n−1} − g) at the others, which conserves the energy at e = 1.
+    Persistent,
 }
 
 /// Time-stepping settings.

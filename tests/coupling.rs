@@ -160,10 +160,14 @@ fn a_constant_load_does_no_net_work() {
     assert!(worst <= MODAL_BALANCE_ROUND_OFF, "residual {worst:e}");
 }
 
-/// Newton's law keeps every contact's loss −½ f_i (u_{n+1} − u_{n−1}) ≥ 0 for every restitution,
+/// The impact laws keep every contact's loss −½ f_i (u_{n+1} − u_{n−1}) ≥ 0 for every restitution,
 /// e = 1 included (docs/scheme.md §8): over 0.3 s of the forced scene at 35 Hz with e = ½ and
 /// e = 1, no step's contact loss is negative beyond round-off ([`CONTACT_LOSS_ROUND_OFF`]), and the
-/// balance still closes.
+/// balance still closes. At e = 1 the default (persistent) law removes nothing, so the summed loss
+/// is zero to round-off: measured −3e-13 J here (−1.4e-12 J over 1 s of this scene in
+/// docs/restitution/contact_loss.csv), held to 1e-10 J either side, about 1e-13 of the work scale
+/// Σ|f|·gap of these contacts (~1e3 J) and far below what one contact dropped onto the obstacle
+/// loses (Newton's law: 0.65 J over 1 s of this scene). At e = ½ it is strictly positive.
 #[test]
 fn the_contact_loss_is_non_negative_for_every_restitution() {
     for e in [0.5, 1.0] {
@@ -175,7 +179,11 @@ fn the_contact_loss_is_non_negative_for_every_restitution() {
             "e = {e}: contact loss since t_1 {:.4e} J, balance residual {worst:.2e}",
             flows.contact_loss
         );
-        assert!(flows.contact_loss >= 0.0, "e = {e}: {flows:?}");
+        if e == 1.0 {
+            assert!(flows.contact_loss.abs() <= 1e-10, "e = {e}: {flows:?}");
+        } else {
+            assert!(flows.contact_loss > 0.0, "e = {e}: {flows:?}");
+        }
         assert!(
             worst <= MODAL_BALANCE_ROUND_OFF,
             "e = {e}: residual {worst:e}"

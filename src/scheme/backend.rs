@@ -19,7 +19,9 @@
 //!      [`Unproven::exact_values`](stages::Unproven::exact_values) evaluate them all exactly): a
 //!      [`Values`] stage, which may end there;
 //!   4. [`Values::solve`]: the contact solve, whose [`Correction`] holds the exact minimiser in
-//!      the next level, its multipliers μ and, used once, their work μᵀB(x − y).
+//!      the next level, its multipliers μ and, used once, their work μᵀB(x − y); or
+//!      [`Correction::retry`] back to a [`Values`] stage, to solve again with the tighter bounds
+//!      an impact law gave the vertices the solve pushed onto an obstacle.
 //!
 //!   What a stage found (the reach's distance, the prediction's norm, whether a value is a
 //!   stand-in, the prediction a correction keeps) is a field of that stage, not a flag of the

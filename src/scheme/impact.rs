@@ -1,5 +1,5 @@
 //! The impact law: the bounds the obstacles put on u_{n+1} at a constrained vertex
-//! (docs/scheme.md, "Restitution").
+//! (docs/scheme.md §8, "Restitution").
 //!
 //! * The paper's **position law** (e = 0): g1 ≤ u_{n+1,i} ≤ g2.
 //! * **Newton's law** with restitution e ∈ [0, 1], on the half-step velocities
@@ -14,10 +14,23 @@
 //!   convex box QP with the same matrix. r_i lies between u_n and u_{n−1}, so a vertex never passes
 //!   an obstacle, and at an active bound u_{n+1} − u_{n−1} ≤ 0 at the lower obstacle (≥ 0 at the
 //!   upper): the contact force does no positive work, the discrete energy never increases, and
-//!   at e = 1 an impact keeps it exactly.
+//!   at e = 1 an impact keeps it exactly. A contact that is not closing (the vertex at rest or
+//!   receding) gets the obstacle bound and loses ½ f_i (u_{n−1,i} − g1), also at e = 1.
+//! * The **persistent law** (the default for e > 0): Newton's bound at a closing contact, and at
+//!   every other vertex in contact the bound u_{n+1} ≥ g1 + e (u_{n−1} − g1), which at e = 1 is
+//!   the persistency bound u_{n+1} ≥ u_{n−1}. Both read
 //!
-//! The law reads the positions of each constrained vertex at t_{n−1} and t_n; [`VertexHistory`]
-//! keeps them, evaluated only on the steps that need bounds.
+//!   lo_i = u_{n−1} − (1 − e)(u_{n−1} − ℓ_i),   ℓ_i = u_n if u_n < u_{n−1}, else g1,
+//!
+//!   so the force of a vertex in contact does the work ½ f_i (lo_i − u_{n−1}) =
+//!   −½ (1 − e) f_i (u_{n−1} − ℓ_i) ≤ 0, exactly zero at e = 1. A vertex is in contact when its
+//!   prediction crosses the obstacle, or when the contact solve put it on the obstacle with a
+//!   force (the stepper then gives it the law's bound and solves again), so at e = 1 no contact
+//!   does work and the discrete energy is conserved.
+//!
+//! Newton's law reads the positions of every constrained vertex at t_{n−1} and t_n;
+//! [`VertexHistory`] keeps them, evaluated only on the steps that need bounds. The persistent law
+//! reads them at the vertices in contact only, one row each.
 
 use super::backend::FieldMaps;
 use crate::scene::{ImpactLaw, Solver};
@@ -29,16 +42,19 @@ pub(crate) enum Law {
     Position,
     /// Newton's law with this restitution e ∈ [0, 1].
     Newton(f64),
+    /// The persistent law with this restitution e ∈ [0, 1].
+    Persistent(f64),
 }
 
 impl Law {
-    /// The law of the solver settings: the position law for e = 0 unless `solver.impact_law`
-    /// asks for Newton's, Newton's law for e > 0.
+    /// The law of the solver settings: `auto` is the position law for e = 0 and the persistent
+    /// law for e > 0; `newton` and `persistent` are those laws for every e.
     pub(crate) fn of(solver: &Solver) -> Law {
-        if solver.impact_law == ImpactLaw::Auto && solver.restitution == 0.0 {
-            Law::Position
-        } else {
-            Law::Newton(solver.restitution)
+        let e = solver.restitution;
+        match solver.impact_law {
+            ImpactLaw::Auto if e == 0.0 => Law::Position,
+            ImpactLaw::Auto | ImpactLaw::Persistent => Law::Persistent(e),
+            ImpactLaw::Newton => Law::Newton(e),
         }
     }
 }
@@ -91,6 +107,70 @@ pub fn newton_bounds(
         rebound
     } else {
         ceiling
+    };
+    [lo, hi]
+}
+
+/// The persistent law's lower bound on u_{n+1} of a vertex in contact with the lower obstacle
+/// `lower` = g1, from its levels `previous` = u_{n−1} and `current` = u_n (m, in a frame in which
+/// the obstacles are at rest), with restitution `restitution` = e ∈ [0, 1]:
+///
+/// lo = u_{n−1} − (1 − e)(u_{n−1} − ℓ),   ℓ = u_n if u_n < u_{n−1} (closing), else g1,
+///
+/// i.e. Newton's rebound bound u_n − e (u_n − u_{n−1}) at a closing contact and
+/// g1 + e (u_{n−1} − g1) at a vertex at rest or receding; exactly u_{n−1} at e = 1. Kept within
+/// [g1, `upper`] (`upper` = g2, `None` when absent), so that g1 ≤ lo ≤ g2 for any input (a
+/// restored state may lie past an obstacle by its tolerance); for levels within the obstacles
+/// g1 ≤ lo ≤ u_{n−1}.
+pub fn persistent_lower_bound(
+    restitution: f64,
+    lower: f64,
+    upper: Option<f64>,
+    previous: f64,
+    current: f64,
+) -> f64 {
+    let target = if current < previous { current } else { lower };
+    (previous - (1.0 - restitution) * (previous - target))
+        .max(lower)
+        .min(upper.unwrap_or(f64::INFINITY))
+}
+
+/// The mirror of [`persistent_lower_bound`] at the upper obstacle `upper` = g2: the upper bound
+/// u_{n−1} − (1 − e)(u_{n−1} − ℓ), ℓ = u_n if u_n > u_{n−1}, else g2, kept within [`lower`, g2].
+/// Formed as the lower bound of the mirrored motion −u, so the two sides round alike.
+pub fn persistent_upper_bound(
+    restitution: f64,
+    lower: Option<f64>,
+    upper: f64,
+    previous: f64,
+    current: f64,
+) -> f64 {
+    -persistent_lower_bound(restitution, -upper, lower.map(|g| -g), -previous, -current)
+}
+
+/// The persistent law as the bounds [lo, hi] on u_{n+1} of one vertex whose contact is decided by
+/// its prediction, between the obstacles `lower` = g1 and `upper` = g2 (`None` when absent, the
+/// bound then ∓∞): [`persistent_lower_bound`] when u*_{n+1} < g1, else g1; mirrored,
+/// [`persistent_upper_bound`] when u*_{n+1} > g2, else g2. (The stepper also gives the law's
+/// bound to a vertex that its contact solve put on an obstacle with a force.)
+pub fn persistent_bounds(
+    restitution: f64,
+    lower: Option<f64>,
+    upper: Option<f64>,
+    motion: VertexMotion,
+) -> [f64; 2] {
+    let levels = [motion.previous, motion.current];
+    let lo = match lower {
+        Some(g) if motion.predicted < g => {
+            persistent_lower_bound(restitution, g, upper, levels[0], levels[1])
+        }
+        _ => lower.unwrap_or(f64::NEG_INFINITY),
+    };
+    let hi = match upper {
+        Some(g) if motion.predicted > g => {
+            persistent_upper_bound(restitution, lower, g, levels[0], levels[1])
+        }
+        _ => upper.unwrap_or(f64::INFINITY),
     };
     [lo, hi]
 }
@@ -168,17 +248,22 @@ mod tests {
     /// rounded to half an ulp (1.7e-18 m at 0.01 m), with room to spare.
     const ROUNDING: f64 = 4e-18;
 
+    /// A law's bounds between G1 and G2 for one motion.
+    fn law(
+        rule: fn(f64, Option<f64>, Option<f64>, VertexMotion) -> [f64; 2],
+        e: f64,
+        [previous, current, predicted]: [f64; 3],
+    ) -> [f64; 2] {
+        let motion = VertexMotion {
+            previous,
+            current,
+            predicted,
+        };
+        rule(e, Some(G1), Some(G2), motion)
+    }
+
     fn bounds(e: f64, previous: f64, current: f64, predicted: f64) -> [f64; 2] {
-        newton_bounds(
-            e,
-            Some(G1),
-            Some(G2),
-            VertexMotion {
-                previous,
-                current,
-                predicted,
-            },
-        )
+        law(newton_bounds, e, [previous, current, predicted])
     }
 
     #[test]
@@ -246,14 +331,85 @@ mod tests {
         assert_eq!(bounds(1.0, G2 + 1e-9, G1 + 1e-3, -0.02), [G2, G2]);
     }
 
+    fn persistent(e: f64, previous: f64, current: f64, predicted: f64) -> [f64; 2] {
+        law(persistent_bounds, e, [previous, current, predicted])
+    }
+
+    #[test]
+    fn the_persistent_law_is_newtons_at_closing_contacts_and_persistency_at_the_others() {
+        // Closing (arriving at −1 mm per step, predicted below g1): Newton's rebound bound.
+        for e in [0.0, 0.3, 0.5, 0.9] {
+            let [lo, hi] = persistent(e, -0.0085, -0.0095, -0.0105);
+            let newton = bounds(e, -0.0085, -0.0095, -0.0105)[0];
+            assert!(
+                (lo - newton).abs() <= ROUNDING,
+                "e = {e}: {lo} against {newton}"
+            );
+            assert_eq!(hi, G2);
+        }
+        // At e = 1 exactly u_{n−1}, whatever the motion: closing, at rest, receding.
+        for current in [-0.0095, -0.0085, -0.0075] {
+            assert_eq!(persistent(1.0, -0.0085, current, -0.0105)[0], -0.0085);
+            assert_eq!(persistent(1.0, 0.0085, -current, 0.0105)[1], 0.0085);
+        }
+        // Receding or at rest: g1 + e (u_{n−1} − g1), 1.5 mm above g1 here; at e = 0 the obstacle.
+        let [lo, hi] = persistent(0.5, -0.0085, -0.0075, -0.0105);
+        assert!((lo - (G1 + 0.5 * 0.0015)).abs() <= ROUNDING, "{lo}");
+        assert_eq!(hi, G2);
+        assert_eq!(persistent(0.0, -0.0085, -0.0085, -0.0105)[0], G1);
+        // Mirrored at the upper obstacle, with the same roundings.
+        let lower = persistent(0.37, -0.0085, -0.0091, -0.0105)[0];
+        let upper = persistent(0.37, 0.0085, 0.0091, 0.0105)[1];
+        assert_eq!(upper, -lower);
+        // No crossing: the obstacles.
+        assert_eq!(persistent(1.0, -0.0085, -0.0095, -0.0099), [G1, G2]);
+    }
+
+    /// The facts the energy argument rests on, over a grid of motions and e: g1 ≤ lo ≤ hi ≤ g2;
+    /// where lo is the law's, g1 ≤ lo ≤ u_{n−1} (an active bound does no positive work,
+    /// f (lo − u_{n−1}) ≤ 0) and at e = 1 lo = u_{n−1} exactly (it does none); lo grows with e
+    /// (the work removed, ½ f (u_{n−1} − lo), falls with e); mirrored for hi.
+    #[test]
+    fn persistent_bounds_do_no_work_at_e_1_and_never_positive_work() {
+        let levels: Vec<f64> = (0..=20).map(|k| G1 + (G2 - G1) * k as f64 / 20.0).collect();
+        let restitutions = [0.0, 0.25, 0.5, 0.9, 1.0];
+        for &previous in &levels {
+            for &current in &levels {
+                let mut last = [f64::NEG_INFINITY, f64::INFINITY];
+                for e in restitutions {
+                    let [lo, hi] = persistent(e, previous, current, -0.02);
+                    assert!(G1 <= lo && lo <= hi && hi <= G2);
+                    assert!(lo <= previous && lo >= last[0], "{e} {previous} {current}");
+                    let [lo_up, hi_up] = persistent(e, previous, current, 0.02);
+                    assert_eq!(lo_up, G1);
+                    assert!(
+                        hi_up >= previous && hi_up <= last[1],
+                        "{e} {previous} {current}"
+                    );
+                    if e == 1.0 {
+                        assert_eq!([lo, hi_up], [previous, previous]);
+                    }
+                    last = [lo, hi_up];
+                }
+            }
+        }
+        // A level past an obstacle (a restored state within its tolerance) still gives a box
+        // within the obstacles.
+        assert_eq!(persistent(1.0, G1 - 1e-9, G1, -0.02), [G1, G2]);
+        assert_eq!(persistent(1.0, G2 + 1e-9, G1 + 1e-3, -0.02), [G2, G2]);
+    }
+
     #[test]
     fn law_of_the_settings() {
         let mut solver = crate::scene::Scene::default().solver;
         assert_eq!(Law::of(&solver), Law::Position);
         solver.restitution = 0.8;
+        assert_eq!(Law::of(&solver), Law::Persistent(0.8));
+        solver.impact_law = ImpactLaw::Newton;
         assert_eq!(Law::of(&solver), Law::Newton(0.8));
         solver.restitution = 0.0;
-        solver.impact_law = ImpactLaw::Newton;
         assert_eq!(Law::of(&solver), Law::Newton(0.0));
+        solver.impact_law = ImpactLaw::Persistent;
+        assert_eq!(Law::of(&solver), Law::Persistent(0.0));
     }
 }

@@ -43,7 +43,9 @@ mod vectors;
 pub use crate::backend_choice::{resolve as resolve_linear, MODAL_AUTO_LIMIT};
 pub use energy::EnergyFlows;
 pub use free_system::{FreeSystem, StepForcing};
-pub use impact::{newton_bounds, VertexMotion};
+pub use impact::{
+    newton_bounds, persistent_bounds, persistent_lower_bound, persistent_upper_bound, VertexMotion,
+};
 pub use outputs::Outputs;
 pub use state::State;
 pub use state::MAX_STEP_INDEX;

@@ -173,6 +173,11 @@ impl<'a> Step<'a> {
     pub(in crate::scheme) fn multipliers(&self) -> &[f64] {
         self.contact.lambda()
     }
+
+    /// Puts the prediction w* that the last solve kept back into `next`, to solve again.
+    pub(in crate::scheme) fn restore_prediction(&self, next: &mut [f64]) {
+        next.copy_from_slice(self.unconstrained);
+    }
 }
 
 // The field maps of free-dof vectors ([`FieldMaps`](super::backend::FieldMaps) documents each).
@@ -234,6 +239,10 @@ pub(in crate::scheme) fn constrained_values(free: &FreeSystem, field: &[f64], ou
     for (o, &d) in out.iter_mut().zip(&free.constrained) {
         *o = field[d];
     }
+}
+
+pub(in crate::scheme) fn constrained_value(free: &FreeSystem, field: &[f64], i: usize) -> f64 {
+    field[free.constrained[i]]
 }
 
 pub(in crate::scheme) fn energy(

@@ -72,6 +72,9 @@ pub struct StepReport {
     pub contact_force: f64,
     /// Whether the set of vertices in contact went from empty to non-empty in this step.
     pub impact: bool,
+    /// How many times the contact solve ran again because it had put vertices on an obstacle
+    /// that the persistent law then bounded (docs/scheme.md §8); 0 under the other laws.
+    pub resolves: u32,
     /// The energy that entered and left the plate in this step (J). All zero for the start step,
     /// which has no exact energy identity (its equation is not the scheme's, see
     /// docs/scheme.md §12): [`Outputs`] sums the flows from the second step on.
@@ -105,6 +108,8 @@ struct Decision {
     /// Whether the step evaluated its prediction's values and kept the prediction: under
     /// Newton's law, which evaluates them exactly, they are then w_{n+1} at the vertices.
     values_kept: bool,
+    /// How many times the contact solve ran again under the persistent law.
+    resolves: u32,
 }
 
 /// The time stepper of one scene.
@@ -440,6 +445,7 @@ impl Stepper {
             path,
             warning,
             answer,
+            resolves,
         } = solved;
         let closing = run.close(&input, sums, answer, &mut work.trial.forces)?;
         // The step succeeded: from here on nothing fails.
@@ -448,6 +454,7 @@ impl Stepper {
             warning,
             bounds_evaluated,
             values_kept,
+            resolves,
         };
         Ok(self.accept(&input, decision, closing))
     }
@@ -497,6 +504,7 @@ impl Stepper {
             base_force: closing.base_force,
             contact_force: closing.contact_force,
             impact,
+            resolves: decision.resolves,
             flows: closing.flows,
         }
     }

@@ -626,6 +626,7 @@ mod tests {
             contact_force: 50.0,
             impact: true,
             flows: Default::default(),
+            resolves: 0,
         };
         let step = InternalStep {
             time: 0.25,

@@ -73,6 +73,16 @@ impl FieldMaps<'_> {
         }
     }
 
+    /// The constrained value of vertex `i` of a field alone (one row of
+    /// [`FieldMaps::constrained_values`], equal to its entry to round-off): what an impact law
+    /// reads at the few vertices in contact.
+    pub(in crate::scheme) fn constrained_value(self, field: &[f64], i: usize) -> f64 {
+        match self {
+            FieldMaps::Modal(data) => data.constrained_value(field, i),
+            FieldMaps::Sparse(free) => sparse::constrained_value(free, field, i),
+        }
+    }
+
     /// A field as a free-dof vector w_f.
     pub(in crate::scheme) fn to_free_dofs(self, field: &[f64]) -> Vec<f64> {
         match self {

@@ -197,7 +197,7 @@ impl<'a> Unproven<'a> {
 /// backend proved them inside).
 pub(in crate::scheme) struct Values<'a> {
     fields: StepFields<'a>,
-    values: &'a [f64],
+    values: &'a mut [f64],
     engine: Engine<modal::Valued<'a>, sparse::Step<'a>>,
 }
 
@@ -263,7 +263,7 @@ impl<'a> Values<'a> {
         let (report, engine) = match engine {
             Engine::Modal(valued) => {
                 let (report, corrected) =
-                    valued.solve(fields.next, values, lower, upper, states, settings);
+                    valued.solve(fields.next, &*values, lower, upper, states, settings);
                 (report, corrected.map(Engine::Modal))
             }
             Engine::Sparse(mut step) => {
@@ -275,6 +275,7 @@ impl<'a> Values<'a> {
         Ok(match engine {
             Some(engine) => Solve::Solved(Correction {
                 fields,
+                values,
                 report,
                 engine,
             }),
@@ -286,6 +287,8 @@ impl<'a> Values<'a> {
 /// A step whose contact solve put the exact minimiser w = A⁻¹(b + Bᵀμ) in the next level.
 pub(in crate::scheme) struct Correction<'a> {
     fields: StepFields<'a>,
+    /// The constrained values the solve started from.
+    values: &'a mut [f64],
     report: PdasReport,
     engine: Engine<modal::Corrected<'a>, sparse::Step<'a>>,
 }
@@ -312,6 +315,31 @@ impl<'a> Correction<'a> {
     /// Gives the correction up: the caller solves the step another way into the next level.
     pub(in crate::scheme) fn reject(self) -> StepFields<'a> {
         self.fields
+    }
+
+    /// Gives the correction up to solve the step again, with other bounds (an impact law that
+    /// bounds more vertices, docs/scheme.md §8): the prediction the solve kept is put back into
+    /// the next level, with the values the solve reached (exact wherever it reached a
+    /// stand-in), and [`Values::solve`] may follow again.
+    pub(in crate::scheme) fn retry(self) -> Values<'a> {
+        let Correction {
+            fields,
+            values,
+            engine,
+            ..
+        } = self;
+        let engine = match engine {
+            Engine::Modal(corrected) => Engine::Modal(corrected.retry(fields.next, values)),
+            Engine::Sparse(step) => {
+                step.restore_prediction(fields.next);
+                Engine::Sparse(step)
+            }
+        };
+        Values {
+            fields,
+            values,
+            engine,
+        }
     }
 
     /// μᵀB(x − y), x the corrected w_{n+1} and y = w_{n−1}: for the modal backend from the

@@ -117,11 +117,21 @@ impl<'a> Valued<'a> {
                 }
             }
         }
-        (report, Some(Corrected { step }))
+        (report, Some(Corrected { step, stand_ins }))
     }
 }
 
-impl Corrected<'_> {
+impl<'a> Corrected<'a> {
+    /// Back to the stage before the solve, to solve again with other bounds: q* into `next`,
+    /// and into `values` the solve's y* (the values it started from, with the stand-ins it
+    /// reached replaced by exact values, as the screening now marks them).
+    pub(in crate::scheme) fn retry(self, next: &mut [f64], values: &mut [f64]) -> Valued<'a> {
+        let Corrected { step, stand_ins } = self;
+        next.copy_from_slice(&step.corrector.unconstrained);
+        values.copy_from_slice(&step.corrector.y_star);
+        Valued { step, stand_ins }
+    }
+
     /// The multipliers μ (length m) of the solve.
     pub(in crate::scheme) fn multipliers(&self) -> &[f64] {
         self.step.corrector.active_set.lambda()

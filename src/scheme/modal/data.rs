@@ -294,6 +294,12 @@ impl ModalData {
         );
     }
 
+    /// (C q)_i alone, one dot over the modes with row i of C: what an impact law reads at the few
+    /// vertices in contact (equal to entry i of [`ModalData::constrained_values`] to round-off).
+    pub(in crate::scheme) fn constrained_value(&self, q: &[f64], i: usize) -> f64 {
+        self.c_rows.col(i).transpose() * ColRef::from_slice(q)
+    }
+
     /// w_f = Φ q.
     pub(in crate::scheme) fn to_free_dofs(&self, field: &[f64]) -> Vec<f64> {
         let q = Col::from_fn(field.len(), |k| field[k]);

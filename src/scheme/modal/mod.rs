@@ -191,4 +191,6 @@ pub(in crate::scheme) struct Valued<'a> {
 /// corrector q*.
 pub(in crate::scheme) struct Corrected<'a> {
     step: Step<'a>,
+    /// Whether the values it started from had stand-ins (see [`Valued`]).
+    stand_ins: bool,
 }

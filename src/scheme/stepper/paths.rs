@@ -6,10 +6,12 @@ use super::workspace::Trial;
 use super::{Run, StepInput, StepPath, RESTORE_BOUND_TOLERANCE};
 use crate::contact::BoxQp;
 use crate::error::Error;
-use crate::scene::QpChoice;
+use crate::scene::{ObstacleSide, QpChoice};
 use crate::scheme::backend::{Correction, Prediction, Screened, Solve, StepFields, Values};
 use crate::scheme::free_system::StepForcing;
-use crate::scheme::impact::{newton_bounds, Law, VertexHistory, VertexMotion};
+use crate::scheme::impact::{
+    newton_bounds, persistent_lower_bound, persistent_upper_bound, Law, VertexHistory, VertexMotion,
+};
 use crate::scheme::reference::solve_reference;
 
 /// How a step finds u_{n+1}, decided once per step by [`Run::route`], with the stage the
@@ -76,6 +78,9 @@ pub(super) struct Solved<'a> {
     /// Why the answer is less exact than the normal path's, if it is.
     pub(super) warning: Option<String>,
     pub(super) answer: Answer<'a>,
+    /// How many times the contact solve ran again after the persistent law bounded vertices
+    /// that the solve had put on an obstacle ([`Run::bound_new_contacts`]).
+    pub(super) resolves: u32,
 }
 
 impl<'a> Solved<'a> {
@@ -85,6 +90,7 @@ impl<'a> Solved<'a> {
             path: StepPath::Unconstrained,
             warning: None,
             answer: Answer::Prediction(fields),
+            resolves: 0,
         }
     }
 }
@@ -92,7 +98,8 @@ impl<'a> Solved<'a> {
 impl Run {
     /// Decides the step's path from its prediction. Unless the prediction is screened, evaluates
     /// it at the constrained vertices into `values` and sets this step's bounds in the trial's
-    /// `lower` and `upper`: the obstacles, or Newton's law where the prediction crosses one.
+    /// `lower` and `upper`: the obstacles, or the impact law's bounds where the prediction
+    /// crosses one.
     pub(super) fn route<'a>(
         &self,
         input: &StepInput,
@@ -111,10 +118,10 @@ impl Run {
         let values = if auto {
             match prediction.screen(lower, upper) {
                 Screened::Proven(fields) => return Route::Screened(fields),
-                // The active-set method on the position law solves from stand-ins where they
-                // are proven inside (see `Unproven::values`); Newton's law reads the exact
-                // prediction of every vertex.
-                Screened::Unproven(unproven) if self.law == Law::Position => {
+                // The active-set method on the position and persistent laws solves from
+                // stand-ins where they are proven inside the obstacles, hence cross none (see
+                // `Unproven::values`); Newton's law reads the exact prediction of every vertex.
+                Screened::Unproven(unproven) if !matches!(self.law, Law::Newton(_)) => {
                     unproven.values(values)
                 }
                 Screened::Unproven(unproven) => unproven.exact_values(values),
@@ -125,10 +132,26 @@ impl Run {
         trial.lower.fill(lower);
         trial.upper.fill(upper);
         let feasible = values.values().iter().all(|&w| w >= lower && w <= upper);
-        // Newton's law changes only the bounds of vertices whose prediction crosses an
-        // obstacle: a step without any keeps the obstacles' bounds and costs nothing more.
-        if let (false, Law::Newton(e)) = (feasible, self.law) {
-            self.apply_newton_law(e, input.base_next, &values, history, trial);
+        // The laws change only the bounds of vertices whose prediction crosses an obstacle: a
+        // step without any keeps the obstacles' bounds and costs nothing more. The start step
+        // keeps them under the persistent law (the plate is released at rest).
+        match (feasible, self.law) {
+            (false, Law::Newton(e)) => {
+                self.apply_newton_law(e, input.base_next, &values, history, trial)
+            }
+            (false, Law::Persistent(e)) if !input.forcing.start => {
+                let fields = values.fields();
+                for (i, &w) in values.values().iter().enumerate() {
+                    if w < lower {
+                        trial.lower[i] =
+                            self.persistent_bound(e, input, fields, i, ObstacleSide::Lower);
+                    } else if w > upper {
+                        trial.upper[i] =
+                            self.persistent_bound(e, input, fields, i, ObstacleSide::Upper);
+                    }
+                }
+            }
+            _ => {}
         }
         match (auto, feasible) {
             (false, _) => Route::Clarabel(values),
@@ -167,82 +190,180 @@ impl Run {
         }
     }
 
-    /// [`Route::Clarabel`]: clarabel solves the step, and its answer is checked.
+    /// The persistent law's bound on w_{n+1} of vertex i in contact with the obstacle on `side`
+    /// ([`persistent_lower_bound`], [`persistent_upper_bound`]), from w_{n−1} and w_n of `fields`
+    /// at that vertex alone, every position measured from the base level z_{n+1} as in
+    /// [`Run::apply_newton_law`].
+    fn persistent_bound(
+        &self,
+        e: f64,
+        input: &StepInput,
+        fields: &StepFields,
+        i: usize,
+        side: ObstacleSide,
+    ) -> f64 {
+        let [lower, upper] = input.obstacles;
+        let [z_prev, z_curr] = self.base.map(|z| z - input.base_next);
+        let previous = z_prev + fields.maps.constrained_value(fields.previous, i);
+        let current = z_curr + fields.maps.constrained_value(fields.current, i);
+        // A disabled obstacle's level is ∓∞ here.
+        let present = |g: f64| g.is_finite().then_some(g);
+        match side {
+            ObstacleSide::Lower => {
+                persistent_lower_bound(e, lower, present(upper), previous, current)
+            }
+            ObstacleSide::Upper => {
+                persistent_upper_bound(e, present(lower), upper, previous, current)
+            }
+        }
+    }
+
+    /// After a contact solve with multipliers `mu`, under the persistent law (not at the start
+    /// step): gives the law's bound to every vertex that the solve put on an obstacle's own bound
+    /// with a force (it had not crossed, but the plate around it pushed it there), wherever that
+    /// bound is tighter, and returns whether there was one: the solve must then run again. Each
+    /// vertex is bounded by the law at most once per side, so the repetition ends. Under the
+    /// other laws it returns false.
+    fn bound_new_contacts(
+        &self,
+        input: &StepInput,
+        fields: &StepFields,
+        mu: &[f64],
+        trial: &mut Trial,
+    ) -> bool {
+        let e = match self.law {
+            Law::Persistent(e) if !input.forcing.start => e,
+            _ => return false,
+        };
+        let [lower, upper] = input.obstacles;
+        let mut grew = false;
+        for (i, &mu) in mu.iter().enumerate() {
+            if mu > 0.0 && trial.lower[i] == lower {
+                let bound = self.persistent_bound(e, input, fields, i, ObstacleSide::Lower);
+                if bound > lower {
+                    trial.lower[i] = bound;
+                    grew = true;
+                }
+            } else if mu < 0.0 && trial.upper[i] == upper {
+                let bound = self.persistent_bound(e, input, fields, i, ObstacleSide::Upper);
+                if bound < upper {
+                    trial.upper[i] = bound;
+                    grew = true;
+                }
+            }
+        }
+        grew
+    }
+
+    /// [`Route::Clarabel`]: clarabel solves the step (again while the persistent law bounds more
+    /// vertices, [`Run::bound_new_contacts`]), and its answer is checked.
     pub(super) fn clarabel_path<'a>(
         &self,
         input: &StepInput,
         mut fields: StepFields<'a>,
         trial: &mut Trial,
     ) -> Result<Solved<'a>, Error> {
-        let (mu, warning) = self.solve_with_clarabel(&input.forcing, &mut fields, trial)?;
+        let mut resolves = 0;
+        let (mu, warning) = self.clarabel_under_law(input, &mut fields, trial, &mut resolves)?;
         self.check_clarabel_answer(input, &fields, trial)?;
         Ok(Solved {
             path: StepPath::Clarabel,
             warning,
             answer: Answer::Replaced(fields, mu),
+            resolves,
         })
+    }
+
+    /// [`Run::solve_with_clarabel`], again while [`Run::bound_new_contacts`] bounds more vertices,
+    /// counting the repeated solves in `resolves`; the multipliers and warning of the last solve.
+    fn clarabel_under_law(
+        &self,
+        input: &StepInput,
+        fields: &mut StepFields,
+        trial: &mut Trial,
+        resolves: &mut u32,
+    ) -> Result<(Vec<f64>, Option<String>), Error> {
+        loop {
+            let (mu, warning) = self.solve_with_clarabel(&input.forcing, fields, trial)?;
+            if !self.bound_new_contacts(input, fields, &mu, trial) {
+                return Ok((mu, warning));
+            }
+            *resolves += 1;
+        }
     }
 
     /// [`Route::ActiveSet`]: the backend's exact active-set method, warm-started from the last
     /// step's contact states, whose answer is accepted when it converged and lies within its
     /// bounds to [`ACTIVE_SET_BOUND_TOLERANCE`] of the gap; otherwise
-    /// [`Run::fallback_path`].
+    /// [`Run::fallback_path`]. Under the persistent law it solves again, from the prediction and
+    /// warm-started from its last contact states, while [`Run::bound_new_contacts`] bounds more
+    /// vertices.
     pub(super) fn active_set_path<'a>(
         &self,
         input: &StepInput,
-        values: Values<'a>,
+        mut values: Values<'a>,
         trial: &mut Trial,
     ) -> Result<Solved<'a>, Error> {
         let tolerance = ACTIVE_SET_BOUND_TOLERANCE * self.scene.gap();
         trial.states.copy_from_slice(&self.states);
         let settings = &self.active_set_settings;
-        let solve = values.solve(&trial.lower, &trial.upper, &mut trial.states, settings)?;
-        let (failure, fields) = match solve {
-            // The method's own test keeps its y within `bound_tolerance` of the bounds, and
-            // the field's constrained values agree with its y to round-off far below that
-            // (about 3nε of the same scale, against its tol = 1e-11): when `bound_tolerance`
-            // is below the tolerance, the check's O(mn) product (modal backend) is not
-            // needed. It is above when the data's scale is over 100 times the gap's, as at
-            // the huge loads whose answer may be garbage.
-            Solve::Solved(correction) if correction.report().bound_tolerance <= tolerance => {
-                return Ok(active_set(correction))
-            }
-            Solve::Solved(correction) => {
-                match trial.first_past_bound(correction.fields(), tolerance) {
-                    None => return Ok(active_set(correction)),
-                    Some(past) => (
-                        format!(
-                            "the active-set method reported a solution with {}",
-                            past.describe(tolerance)
-                        ),
-                        correction.reject(),
-                    ),
+        let mut resolves = 0;
+        let (failure, fields) = loop {
+            let solve = values.solve(&trial.lower, &trial.upper, &mut trial.states, settings)?;
+            let correction = match solve {
+                // The method's own test keeps its y within `bound_tolerance` of the bounds, and
+                // the field's constrained values agree with its y to round-off far below that
+                // (about 3nε of the same scale, against its tol = 1e-11): when
+                // `bound_tolerance` is below the tolerance, the check's O(mn) product (modal
+                // backend) is not needed. It is above when the data's scale is over 100 times
+                // the gap's, as at the huge loads whose answer may be garbage.
+                Solve::Solved(correction) if correction.report().bound_tolerance <= tolerance => {
+                    correction
                 }
+                Solve::Solved(correction) => {
+                    match trial.first_past_bound(correction.fields(), tolerance) {
+                        None => correction,
+                        Some(past) => {
+                            let reason = format!(
+                                "the active-set method reported a solution with {}",
+                                past.describe(tolerance)
+                            );
+                            break (reason, correction.reject());
+                        }
+                    }
+                }
+                Solve::Failed { report, fields } => {
+                    let reason = format!(
+                        "the active-set method did not converge ({:?} after {} iterations and \
+                         {} safeguard iterations)",
+                        report.status, report.iterations, report.safeguard_iterations
+                    );
+                    break (reason, fields);
+                }
+            };
+            let (fields, mu) = (correction.fields(), correction.multipliers());
+            if !self.bound_new_contacts(input, fields, mu, trial) {
+                return Ok(active_set(correction, resolves));
             }
-            Solve::Failed { report, fields } => (
-                format!(
-                    "the active-set method did not converge ({:?} after {} iterations and {} \
-                     safeguard iterations)",
-                    report.status, report.iterations, report.safeguard_iterations
-                ),
-                fields,
-            ),
+            resolves += 1;
+            values = correction.retry();
         };
-        self.fallback_path(input, fields, trial, failure)
+        self.fallback_path(input, fields, trial, failure, resolves)
     }
 
-    /// Clarabel solves a step the active-set method failed for `reason`, with a warning saying
-    /// so; its answer is checked.
+    /// Clarabel solves a step the active-set method failed for `reason` (after `resolves`
+    /// repeated solves), with a warning saying so; its answer is checked.
     fn fallback_path<'a>(
         &self,
         input: &StepInput,
         mut fields: StepFields<'a>,
         trial: &mut Trial,
         reason: String,
+        mut resolves: u32,
     ) -> Result<Solved<'a>, Error> {
         let t_next = input.t_next;
         let (mu, polish_warning) = self
-            .solve_with_clarabel(&input.forcing, &mut fields, trial)
+            .clarabel_under_law(input, &mut fields, trial, &mut resolves)
             .map_err(|e| {
                 Error::ContactSolver(format!(
                     "at t = {t_next} s (base displacement {:e} m, load.pressure {:e} Pa) {reason}, \
@@ -263,6 +384,7 @@ impl Run {
             path: StepPath::ClarabelFallback,
             warning,
             answer: Answer::Replaced(fields, mu),
+            resolves,
         })
     }
 
@@ -320,11 +442,12 @@ impl Run {
     }
 }
 
-/// The active-set method's answer.
-fn active_set(correction: Correction) -> Solved {
+/// The active-set method's answer, after `resolves` repeated solves.
+fn active_set(correction: Correction, resolves: u32) -> Solved {
     Solved {
         path: StepPath::ActiveSet,
         warning: None,
         answer: Answer::Corrected(correction),
+        resolves,
     }
 }

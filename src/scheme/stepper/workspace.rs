@@ -16,7 +16,7 @@ pub(super) struct StepWorkspace {
 /// accepted.
 pub(super) struct Trial {
     /// The bounds on w_{n+1} at the constrained vertices: the obstacles relative to the base, or
-    /// Newton's law's bounds.
+    /// the impact law's bounds.
     pub(super) lower: Vec<f64>,
     pub(super) upper: Vec<f64>,
     /// The contact states of the answer.

@@ -1,4 +1,4 @@
-"""The restitution study of docs/restitution/: Newton's impact law in the `energy` scene.
+"""The restitution study of docs/restitution/: the default impact law in the `energy` scene.
 
 Runs the `energy` scene (fixed base, preload released above the lower obstacle g1 = -0.01 m,
 10 x 7 Argyris) through `cargo run --release --example restitution` and writes
@@ -83,12 +83,12 @@ def main():
         ax.plot(r["t"][1:], r["energy_total"][1:], color=colour, lw=1.2, label=label)
     ax.plot(newton_zero[1]["t"][1:], newton_zero[1]["energy_total"][1:], color="0.5", lw=1.0,
             ls="--", label="e = 0, Newton's law")
-    finish_axes(ax, "t (s)", "discrete energy $E_{n+1/2}$ (J)", "energy scene, Δt = 1e-4 s: Newton's law",
+    finish_axes(ax, "t (s)", "discrete energy $E_{n+1/2}$ (J)", "energy scene, Δt = 1e-4 s: default law",
                 columns=2)
     shown = [e for e in RESTITUTIONS if e in FORMER_KEPT]
     x = np.arange(len(shown))
     kept = [runs[e][0]["energy_last"] / runs[e][0]["energy_first"] for e in shown]
-    bars.bar(x - 0.2, kept, 0.4, color="tab:blue", label="Newton's law")
+    bars.bar(x - 0.2, kept, 0.4, color="tab:blue", label="default law")
     bars.bar(x + 0.2, [FORMER_KEPT[e] for e in shown], 0.4, color="tab:red",
              label="former position-level law")
     bars.axhline(1.0, color="k", lw=0.8, ls=":")
