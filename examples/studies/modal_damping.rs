@@ -135,11 +135,20 @@ struct Setting {
 /// A scene, ratio and mesh, run down a ladder of Δt until the time averages settle.
 #[derive(Clone, Debug)]
 struct Line {
+    /// The part of the committed plan it belongs to (`--part`).
+    part: &'static str,
     forcing: Forcing,
     zeta: f64,
     mesh: Mesh,
     /// Δt (s), decreasing.
     ladder: Vec<f64>,
+    /// A run whose estimated CPU time exceeds this (s) is left out, with the smaller Δt of its
+    /// line.
+    max_run_cpu: f64,
+    /// Perturbed replicas of each run.
+    replicas: usize,
+    /// Whether the per-period series of its runs are written (`modal_damping_periods.csv`).
+    series: bool,
 }
 
 /// What the study runs.
@@ -152,13 +161,9 @@ struct Plan {
     duration: f64,
     /// Window length (s), for the window spread: the whole periods nearest to it.
     window: f64,
-    replicas: usize,
     /// A line stops refining Δt once the time averages of [`SETTLING`] at two successive Δt
     /// agree: differ by at most this relative tolerance or 2σ of their difference.
     settle_tolerance: f64,
-    /// A run whose estimated CPU time exceeds this (s) is left out, with the smaller Δt of its line.
-    max_run_cpu: f64,
-    series: bool,
     /// `name=value` scene parameters of every run.
     overrides: Vec<String>,
 }
@@ -206,7 +211,12 @@ impl MeshModes {
         let band = modes
             .frequencies_hz()
             .iter()
-            .map(|&f| BAND_EDGES_HZ.iter().rposition(|&edge| f >= edge).unwrap_or(0))
+            .map(|&f| {
+                BAND_EDGES_HZ
+                    .iter()
+                    .rposition(|&edge| f >= edge)
+                    .unwrap_or(0)
+            })
             .collect();
         let w2 = modes.omega_squared;
         Ok(MeshModes {
@@ -274,7 +284,13 @@ fn stride(interval: f64, dt: f64) -> usize {
 }
 
 /// Adds the energy of each mode between the state's two levels to its band.
-fn add_modal_energy(modes: &MeshModes, previous: &[f64], current: &[f64], dt: f64, bands: &mut [f64]) -> f64 {
+fn add_modal_energy(
+    modes: &MeshModes,
+    previous: &[f64],
+    current: &[f64],
+    dt: f64,
+    bands: &mut [f64],
+) -> f64 {
     let mut elastic = 0.0;
     for (k, (&a, &b)) in previous.iter().zip(current).enumerate() {
         let velocity = (b - a) / dt;
@@ -297,7 +313,10 @@ fn run(
     let f = setting.forcing.frequency;
     let periods = (total_s * f).round() as usize;
     let steps = (periods as f64 / f / dt).round() as usize;
-    let (sample, modal_sample) = (stride(SAMPLE_INTERVAL, dt), stride(MODAL_SAMPLE_INTERVAL, dt));
+    let (sample, modal_sample) = (
+        stride(SAMPLE_INTERVAL, dt),
+        stride(MODAL_SAMPLE_INTERVAL, dt),
+    );
     let mut record = vec![Period::default(); periods];
     let scene = stepper.scene().clone();
     let started = Instant::now();
@@ -323,8 +342,13 @@ fn run(
         }
         if n % modal_sample == 0 {
             let state = stepper.state();
-            let elastic =
-                add_modal_energy(modes, &state.previous, &state.current, dt, &mut period.bands);
+            let elastic = add_modal_energy(
+                modes,
+                &state.previous,
+                &state.current,
+                dt,
+                &mut period.bands,
+            );
             period.modal_samples += 1;
             if !checked {
                 // The state's levels are w_{n−1}, w_n; the outputs' elastic energy is that of the
@@ -499,7 +523,10 @@ fn estimate(
 ) -> Estimate {
     let steady = runs[0];
     let value = over(steady);
-    let series: Vec<f64> = steady.iter().map(|p| over(std::slice::from_ref(p))).collect();
+    let series: Vec<f64> = steady
+        .iter()
+        .map(|p| over(std::slice::from_ref(p)))
+        .collect();
     let finite = series.iter().all(|x| x.is_finite());
     let (tau, tau_resolved) = if finite {
         integrated_time(&series)
@@ -545,28 +572,92 @@ fn meshes(element: ElementKind, cells: &[(usize, usize)]) -> Vec<Mesh> {
         .collect()
 }
 
-/// The committed study (docs/accuracy/modal_damping.md says why each part): every scene and
-/// ratio on the coarse and middle meshes of both elements, Δt = 1e-4 … 1e-7 s until the time
-/// averages settle or a run would cost more than `max_run_cpu`.
+/// The committed study (docs/accuracy/modal_damping.md says why each part), in parts that
+/// `--part` runs alone:
+/// - `middle`: ζ = 1 % on every scene, the coarse and middle meshes of both elements, Δt from
+///   1e-4 s down to 1e-7 s until the time averages settle or a run would cost more than 300 CPU s;
+/// - `ratios`: ζ = 0.5 % and 2 %, the same meshes, runs up to 120 CPU s;
+/// - `replicas`: ζ = 0.5 % and 1 % on Argyris 10 × 7 (the paper's plate) and 10 × 10 (the square)
+///   at Δt = 1e-6 s, with 4 perturbed replicas and the per-period series, for the spreads and the
+///   correlation times;
+/// - `fine`: ζ = 1 % on the finest meshes this machine runs, Argyris 20 × 14, 28 × 20 and FVS
+///   48 × 34 (5 040 free dofs, as many as Argyris 28 × 20) for the paper's plate, Argyris 20 × 20
+///   and FVS 28 × 28 for the square, at Δt = 1e-5 and 1e-6 s.
 fn committed_plan() -> Plan {
     let mut lines = Vec::new();
-    for forcing in SCENES {
-        let (argyris, fvs): (&[(usize, usize)], &[(usize, usize)]) = match forcing.plate {
-            Plate::Paper => (&[(4, 2), (6, 4), (10, 7), (14, 10)], &[(7, 5), (14, 10), (28, 20)]),
-            Plate::Aluminium => (&[(4, 4), (7, 7), (10, 10), (14, 14)], &[(7, 7), (14, 14), (28, 28)]),
+    let line = |part, forcing: Forcing, zeta, mesh, ladder: &[f64], max_run_cpu| Line {
+        part,
+        forcing,
+        zeta,
+        mesh,
+        ladder: ladder.to_vec(),
+        max_run_cpu,
+        replicas: 0,
+        series: false,
+    };
+    use ElementKind::{Argyris, Fvs};
+    let cells =
+        |plate, paper: &[(usize, usize)], square: &[(usize, usize)]| -> Vec<(usize, usize)> {
+            if plate == Plate::Paper {
+                paper.to_vec()
+            } else {
+                square.to_vec()
+            }
         };
-        for zeta in ZETAS {
-            let all = meshes(ElementKind::Argyris, argyris)
-                .into_iter()
-                .chain(meshes(ElementKind::Fvs, fvs));
-            for mesh in all {
-                lines.push(Line {
+    for (part, zetas, max_run_cpu) in [
+        ("middle", &[0.01][..], 300.0),
+        ("ratios", &[0.005, 0.02][..], 120.0),
+    ] {
+        for forcing in SCENES {
+            for &zeta in zetas {
+                let argyris = cells(
+                    forcing.plate,
+                    &[(4, 2), (6, 4), (10, 7), (14, 10)],
+                    &[(4, 4), (7, 7), (10, 10), (14, 14)],
+                );
+                let fvs = cells(
+                    forcing.plate,
+                    &[(7, 5), (14, 10), (28, 20)],
+                    &[(7, 7), (14, 14), (20, 20)],
+                );
+                let all = meshes(Argyris, &argyris)
+                    .into_iter()
+                    .chain(meshes(Fvs, &fvs));
+                for mesh in all {
+                    lines.push(line(part, forcing, zeta, mesh, &LADDER, max_run_cpu));
+                }
+            }
+        }
+    }
+    for forcing in SCENES {
+        for zeta in [0.01, 0.005] {
+            let (nx, ny) = cells(forcing.plate, &[(10, 7)], &[(10, 10)])[0];
+            lines.push(Line {
+                replicas: 4,
+                series: true,
+                ..line(
+                    "replicas",
                     forcing,
                     zeta,
-                    mesh,
-                    ladder: LADDER.to_vec(),
-                });
-            }
+                    Mesh {
+                        element: Argyris,
+                        nx,
+                        ny,
+                    },
+                    &[1e-6],
+                    300.0,
+                )
+            });
+        }
+    }
+    for forcing in SCENES {
+        let argyris = cells(forcing.plate, &[(20, 14), (28, 20)], &[(20, 20)]);
+        let fvs = cells(forcing.plate, &[(48, 34)], &[(28, 28)]);
+        let all = meshes(Argyris, &argyris)
+            .into_iter()
+            .chain(meshes(Fvs, &fvs));
+        for mesh in all {
+            lines.push(line("fine", forcing, 0.01, mesh, &[1e-5, 1e-6], 1500.0));
         }
     }
     Plan {
@@ -575,16 +666,10 @@ fn committed_plan() -> Plan {
         transient: 1.0,
         duration: 8.0,
         window: 1.0,
-        replicas: 0,
         settle_tolerance: 0.01,
-        max_run_cpu: 300.0,
-        series: false,
         overrides: Vec::new(),
     }
 }
-
-/// The modal ratios of the study, the common 1 % first (a study stopped early has it).
-const ZETAS: [f64; 3] = [0.01, 0.005, 0.02];
 
 /// The Δt ladder (s).
 const LADDER: [f64; 4] = [1e-4, 1e-5, 1e-6, 1e-7];
@@ -601,14 +686,15 @@ fn quick_plan() -> Plan {
                 ny: 2,
             },
             ladder: vec![1e-4, 1e-5],
+            part: "quick",
+            max_run_cpu: 60.0,
+            replicas: 2,
+            series: true,
         }],
         transient: 0.5,
         duration: 1.5,
         window: 0.25,
-        replicas: 2,
         settle_tolerance: 0.01,
-        max_run_cpu: 60.0,
-        series: true,
         overrides: Vec::new(),
     }
 }
@@ -653,7 +739,11 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
     let value_of = |flag: &str| {
         args.iter()
             .position(|a| a == flag)
-            .map(|i| args.get(i + 1).cloned().ok_or(format!("{flag} needs a value")))
+            .map(|i| {
+                args.get(i + 1)
+                    .cloned()
+                    .ok_or(format!("{flag} needs a value"))
+            })
             .transpose()
     };
     let number = |flag: &str| -> Result<Option<f64>, String> {
@@ -661,12 +751,35 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
             .map(|v| parse_numbers(flag, &v).map(|x| x[0]))
             .transpose()
     };
-    let mut plan = if quick { quick_plan() } else { committed_plan() };
+    let mut plan = if quick {
+        quick_plan()
+    } else {
+        committed_plan()
+    };
     let mut partial = false;
+    if let Some(list) = value_of("--part")? {
+        let parts: Vec<&str> = list.split(',').collect();
+        if let Some(bad) = parts
+            .iter()
+            .find(|p| !plan.lines.iter().any(|l| l.part == **p))
+        {
+            return Err(format!(
+                "--part {bad}: use middle, ratios, replicas or fine"
+            ));
+        }
+        plan.lines.retain(|l| parts.contains(&l.part));
+        partial = true;
+    }
     if let Some(list) = value_of("--scenes")? {
         let labels: Vec<&str> = list.split(',').collect();
-        if let Some(bad) = labels.iter().find(|l| !SCENES.iter().any(|s| s.label == **l)) {
-            return Err(format!("--scenes {bad}: use labels among {:?}", SCENES.map(|s| s.label)));
+        if let Some(bad) = labels
+            .iter()
+            .find(|l| !SCENES.iter().any(|s| s.label == **l))
+        {
+            return Err(format!(
+                "--scenes {bad}: use labels among {:?}",
+                SCENES.map(|s| s.label)
+            ));
         }
         plan.lines.retain(|l| labels.contains(&l.forcing.label));
         partial = true;
@@ -681,8 +794,14 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
         let meshes = parse_meshes(&list)?;
         let mut kept: Vec<Line> = Vec::new();
         for line in &plan.lines {
-            if !kept.iter().any(|k| k.forcing.label == line.forcing.label && k.zeta == line.zeta) {
-                kept.extend(meshes.iter().map(|&mesh| Line { mesh, ..line.clone() }));
+            if !kept
+                .iter()
+                .any(|k| k.forcing.label == line.forcing.label && k.zeta == line.zeta)
+            {
+                kept.extend(meshes.iter().map(|&mesh| Line {
+                    mesh,
+                    ..line.clone()
+                }));
             }
         }
         plan.lines = kept;
@@ -690,7 +809,9 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
     }
     if let Some(list) = value_of("--dt")? {
         let ladder = parse_numbers("--dt", &list)?;
-        plan.lines.iter_mut().for_each(|l| l.ladder = ladder.clone());
+        plan.lines
+            .iter_mut()
+            .for_each(|l| l.ladder = ladder.clone());
         partial = true;
     }
     if let Some(d) = number("--duration")? {
@@ -702,22 +823,29 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
         partial = true;
     }
     if let Some(c) = number("--max-run-cpu")? {
-        plan.max_run_cpu = c;
+        plan.lines.iter_mut().for_each(|l| l.max_run_cpu = c);
         partial = true;
     }
     if let Some(t) = value_of("--transient")? {
-        plan.transient = t.parse().map_err(|_| format!("--transient {t}: use seconds ≥ 0"))?;
+        plan.transient = t
+            .parse()
+            .map_err(|_| format!("--transient {t}: use seconds ≥ 0"))?;
         partial = true;
     }
     if let Some(r) = value_of("--replicas")? {
-        plan.replicas = r.parse().map_err(|_| format!("--replicas {r}: use a count ≥ 0"))?;
+        let r = r
+            .parse()
+            .map_err(|_| format!("--replicas {r}: use a count ≥ 0"))?;
+        plan.lines.iter_mut().for_each(|l| l.replicas = r);
         partial = true;
     }
     if args.iter().any(|a| a == "--no-settle") {
         plan.settle_tolerance = 0.0;
         partial = true;
     }
-    plan.series |= args.iter().any(|a| a == "--series");
+    if args.iter().any(|a| a == "--series") {
+        plan.lines.iter_mut().for_each(|l| l.series = true);
+    }
     plan.overrides = args.iter().filter(|a| a.contains('=')).cloned().collect();
     let partial = !quick && (partial || !plan.overrides.is_empty());
     Ok((plan, partial))
@@ -783,18 +911,20 @@ fn settled(a: &[Estimate], b: &[Estimate], tolerance: f64) -> bool {
         .filter(|(q, _)| SETTLING.contains(&q.name))
         .all(|(_, (a, b))| {
             let difference = (a.value - b.value).abs();
-            difference <= tolerance * b.value.abs() || difference <= 2.0 * a.spread().hypot(b.spread())
+            difference <= tolerance * b.value.abs()
+                || difference <= 2.0 * a.spread().hypot(b.spread())
         })
 }
 
 impl Tables {
     fn new() -> Tables {
         Tables {
-            statistics: "quantity,scene,damping,modal_ratio,element,nx,ny,free_dofs,dt,omega_max_dt,\
+            statistics:
+                "quantity,scene,damping,modal_ratio,element,nx,ny,free_dofs,dt,omega_max_dt,\
                          value,spread,wall_s,cpu_s,set_up_cpu_s,step_us,window_spread,\
                          correlation_spread,replica_spread,tau_periods,tau_resolved,periods,\
                          window_periods,windows,replicas\n"
-                .into(),
+                    .into(),
             bands: "scene,modal_ratio,element,nx,ny,dt,band_low_hz,band_high_hz,modes,energy_J,\
                     spread_J,share\n"
                 .into(),
@@ -817,7 +947,16 @@ impl Tables {
     }
 
     /// The rows of one setting: its statistics, its bands, and with `series` its periods.
-    fn add(&mut self, plan: &Plan, s: &Setting, modes: &MeshModes, runs: &[Run], cost: &Cost) {
+    fn add(
+        &mut self,
+        plan: &Plan,
+        line: &Line,
+        s: &Setting,
+        modes: &MeshModes,
+        runs: &[Run],
+        cost: &Cost,
+    ) {
+        let series = line.series;
         let (all, window) = estimates(plan, s, runs);
         let first = (plan.transient * s.forcing.frequency).round() as usize;
         let steady = &runs[0].periods[first..];
@@ -868,7 +1007,9 @@ impl Tables {
             };
             let e = estimate(&band, &[steady], window);
             let share = steady.iter().map(|p| p.bands[b]).sum::<f64>() / total;
-            let high = BAND_EDGES_HZ.get(b + 1).map_or("inf".to_string(), |h| h.to_string());
+            let high = BAND_EDGES_HZ
+                .get(b + 1)
+                .map_or("inf".to_string(), |h| h.to_string());
             let count = modes.band.iter().filter(|&&k| k == b).count();
             writeln!(
                 self.bands,
@@ -880,7 +1021,7 @@ impl Tables {
             )
             .expect("write to string");
         }
-        if plan.series {
+        if series {
             for (r, run) in runs.iter().enumerate() {
                 for (j, p) in run.periods.iter().enumerate() {
                     let one = std::slice::from_ref(p);
@@ -905,7 +1046,12 @@ impl Tables {
 
 /// Runs one setting: its main run and replicas on one stepper (the replicas restore the initial
 /// state, perturbed on the first mode). Returns the runs and the main run's cost.
-fn run_setting(plan: &Plan, s: &Setting, modes: &MeshModes) -> Result<(Vec<Run>, Cost), String> {
+fn run_setting(
+    plan: &Plan,
+    replicas: usize,
+    s: &Setting,
+    modes: &MeshModes,
+) -> Result<(Vec<Run>, Cost), String> {
     let scene = scene_of(s, &plan.overrides)?;
     let started = Instant::now();
     let cpu_started = cpu_seconds();
@@ -930,7 +1076,7 @@ fn run_setting(plan: &Plan, s: &Setting, modes: &MeshModes) -> Result<(Vec<Run>,
         set_up_cpu_s,
         step_us: runs[0].cpu_s / runs[0].steps as f64 * 1e6,
     };
-    for k in 1..=plan.replicas {
+    for k in 1..=replicas {
         let mut perturbed = initial.clone();
         perturbed.previous[0] += k as f64 * REPLICA_PERTURBATION;
         perturbed.current[0] += k as f64 * REPLICA_PERTURBATION;
@@ -944,6 +1090,22 @@ fn study() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let dir = StudyDir::from_args(&args, "modal_damping", "accuracy")?;
     let (plan, partial) = plan_of(&args, dir.quick)?;
+    if args.iter().any(|a| a == "--plan") {
+        for line in &plan.lines {
+            println!(
+                "{:<9} {:<17} ζ={:<6} {:<14} Δt {:?} s, runs ≤ {} CPU s, {} replicas{}",
+                line.part,
+                line.forcing.label,
+                line.zeta,
+                line.mesh.name(),
+                line.ladder,
+                line.max_run_cpu,
+                line.replicas,
+                if line.series { ", series" } else { "" }
+            );
+        }
+        return Ok(());
+    }
     let started = Instant::now();
     let mut tables = Tables::new();
     let mut left_out = Vec::new();
@@ -985,7 +1147,7 @@ fn study() -> Result<(), String> {
             let estimate = previous
                 .as_ref()
                 .map_or(0.0, |(_, c)| c.set_up_cpu_s + steps * c.step_us * 1e-6);
-            if estimate > plan.max_run_cpu {
+            if estimate > line.max_run_cpu {
                 let what = format!(
                     "{} ζ={} {} Δt ≤ {dt:e} s (estimated {estimate:.0} CPU s)",
                     s.forcing.label,
@@ -996,9 +1158,9 @@ fn study() -> Result<(), String> {
                 left_out.push(what);
                 break;
             }
-            let (runs, cost) = run_setting(&plan, &s, modes)?;
-            tables.add(&plan, &s, modes, &runs, &cost);
-            tables.write(&dir, plan.series)?;
+            let (runs, cost) = run_setting(&plan, line.replicas, &s, modes)?;
+            tables.add(&plan, line, &s, modes, &runs, &cost);
+            tables.write(&dir, plan.lines.iter().any(|l| l.series))?;
             eprintln!(
                 "[{:>3}/{}] {:<17} ζ={:<6} {:<14} Δt={:<6e} ω_max·Δt={:<9.3} {:>7.1} s, {:>6.1} CPU s, \
                  {:.2} µs/step (study {:.0} s)",
@@ -1024,6 +1186,8 @@ fn study() -> Result<(), String> {
             }
         }
     }
+    let mut parts: Vec<&str> = plan.lines.iter().map(|l| l.part).collect();
+    parts.dedup();
     let mut meta = String::from("key,value\n");
     for (k, v) in [
         ("commit", commit()),
@@ -1033,9 +1197,8 @@ fn study() -> Result<(), String> {
         ("transient_s", plan.transient.to_string()),
         ("duration_s", plan.duration.to_string()),
         ("window_s", plan.window.to_string()),
-        ("replicas", plan.replicas.to_string()),
+        ("parts", parts.join(" ")),
         ("settle_tolerance", plan.settle_tolerance.to_string()),
-        ("max_run_cpu_s", plan.max_run_cpu.to_string()),
         ("overrides", plan.overrides.join(" ")),
         ("replica_perturbation", REPLICA_PERTURBATION.to_string()),
         ("sample_interval_s", SAMPLE_INTERVAL.to_string()),
