@@ -36,6 +36,17 @@ pub const CONVERGED_HIGH_MODE_RATIO: f64 = 0.25;
 pub const DOCS_SECTION: &str =
     "docs/accuracy/damping.md, section \"When impact statistics converge\"";
 
+/// The page of the modal damping study, which the warning names for a modal ratio.
+pub const MODAL_DOCS: &str = "docs/accuracy/modal_damping.md";
+
+/// The largest Δt (s) at which the modal damping study found the time averages of a plate damped
+/// mode by mode settled in Δt, on every mesh it refined Δt on (docs/accuracy/modal_damping.md,
+/// "Settling in Δt"): at 1e-6 s they agree with 1e-7 s, at 1e-5 s they do not.
+pub const MODAL_RATIO_TIME_STEP: f64 = 1e-6;
+
+/// What the modal damping study found in the mesh (docs/accuracy/modal_damping.md, "The answer").
+pub const MODAL_RATIO_MESH_FINDING: &str = "PROVISIONAL";
+
 /// The first natural angular frequency (rad/s) of the scene's plate, estimated as a cantilever
 /// beam of the plate's length with the plate's bending stiffness per unit width:
 /// ω₁ ≈ (1.8751/L)²·√(D/(ρe)), D = Ee³/(12(1−ν²)). On the paper's plate 345.7 rad/s against the
@@ -61,6 +72,8 @@ pub struct StatisticsAdvice {
     pub time_step: f64,
     /// β (s) of the scene's Rayleigh damping.
     pub stiffness_proportional: f64,
+    /// ζ_m, the scene's modal ratio.
+    pub modal_ratio: f64,
 }
 
 impl StatisticsAdvice {
@@ -84,6 +97,7 @@ impl StatisticsAdvice {
                 band_dip,
                 time_step: dt,
                 stiffness_proportional: damping.beta,
+                modal_ratio: damping.modal_ratio,
             },
         )
     }
@@ -93,6 +107,25 @@ impl StatisticsAdvice {
     pub fn largest_time_step(&self) -> Option<f64> {
         (self.stiffness_proportional > 0.0)
             .then(|| self.stiffness_proportional / (2.0 * CONVERGED_HIGH_MODE_RATIO))
+    }
+
+    /// What the modal damping study found for a plate damped mode by mode (empty without a modal
+    /// ratio): the Δt it needed, against the scene's, and what converged in the mesh.
+    pub fn modal_ratio_finding(&self) -> String {
+        if self.modal_ratio <= 0.0 {
+            return String::new();
+        }
+        let step = if self.time_step <= MODAL_RATIO_TIME_STEP * (1.0 + 1e-9) {
+            "as this scene's does".to_string()
+        } else {
+            format!("this scene's is {:.3e} s", self.time_step)
+        };
+        format!(
+            "With damping.modal_ratio = {:.3e}, the modal damping study ({MODAL_DOCS}) found time \
+             averages settled in time step only from solver.time_step <= {MODAL_RATIO_TIME_STEP:.0e} s \
+             ({step}). {MODAL_RATIO_MESH_FINDING} ",
+            self.modal_ratio
+        )
     }
 
     /// The warning's text: what was found, the ways out, and where it is documented.
@@ -108,9 +141,10 @@ impl StatisticsAdvice {
             ),
             None => String::new(),
         };
+        let modal = self.modal_ratio_finding();
         if self.high_mode_ratio >= CONVERGED_HIGH_MODE_RATIO {
             return format!(
-                "impact statistics may not converge: an obstacle is enabled and {band}This \
+                "impact statistics may not converge: an obstacle is enabled and {band}{modal}This \
                  warning changes no result. See {DOCS_SECTION}"
             );
         }
@@ -132,7 +166,7 @@ impl StatisticsAdvice {
              does not resolve (omega >= 1/solver.time_step = {:.3e} rad/s) are damped down to the \
              ratio {:.3e}, below the {CONVERGED_HIGH_MODE_RATIO} from which time averages and \
              impact counts were found converged in time step and mesh. To converge, {remedy} \
-             (beta = zeta_1/(pi f_1) gives mode 1 of frequency f_1 the ratio zeta_1). {band}This \
+             (beta = zeta_1/(pi f_1) gives mode 1 of frequency f_1 the ratio zeta_1). {band}{modal}This \
              warning changes no result. See {DOCS_SECTION}",
             1.0 / dt,
             self.high_mode_ratio,

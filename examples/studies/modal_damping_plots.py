@@ -217,6 +217,56 @@ def convergence_tables(table, scenes, zetas):
     return lines
 
 
+def dt_order(runs):
+    """The observed order in Δt from a mesh's three smallest Δt (ratio 10): exact when the last
+    difference exceeds 2σ, else a lower bound from 2σ (written ≥); None without three runs or
+    when the first difference is itself within 2σ."""
+    if len(runs) < 3:
+        return None
+    a, b, c = runs[-3:]
+    ratio = a["dt"] / b["dt"]
+    d1, d2 = abs(b["value"] - a["value"]), abs(c["value"] - b["value"])
+    noise1 = 2 * math.hypot(a["spread"], b["spread"])
+    noise2 = 2 * math.hypot(b["spread"], c["spread"])
+    if d1 <= noise1:
+        return None
+    if d2 > noise2:
+        return f"{math.log(d1 / d2) / math.log(ratio):.1f}"
+    return f"≥ {math.log(d1 / noise2) / math.log(ratio):.1f}"
+
+
+def dt_table(table, scenes, zetas):
+    """Each mesh's mean energy and RMS base force at every Δt it ran, where it settled."""
+    dts = sorted({r["dt"] for by_mesh in table.values() for runs in by_mesh.values() for r in runs},
+                 reverse=True)
+    lines = []
+    for quantity in ("mean_energy_J", "rms_base_force_N"):
+        name, unit, scale = QUANTITIES[quantity]
+        lines += [f"{name} ({unit}) at each Δt; *settled from*: the largest Δt from which every "
+                  "smaller Δt agrees (1 %) with it; order: observed order in Δt from the three "
+                  "smallest.", "",
+                  "| scene | ζ | mesh | " + " | ".join(f"{dt:g} s" for dt in dts)
+                  + " | settled from (ω_max·Δt) | order |",
+                  "|---|---|---|" + "---|" * (len(dts) + 2)]
+        for scene in scenes:
+            for zeta in zetas:
+                by_mesh = table.get((scene, zeta, quantity), {})
+                for element in ("argyris", "fvs"):
+                    for mesh in element_meshes(by_mesh, element):
+                        runs = by_mesh[mesh]
+                        at = {r["dt"]: r for r in runs}
+                        cells = [f"{at[dt]['value'] * scale:.4g}" if dt in at else "" for dt in dts]
+                        settled = [r for i, r in enumerate(runs)
+                                   if all(agree(later, r) for later in runs[i + 1:])]
+                        first = settled[0] if len(runs) >= 2 and settled[0] is not runs[-1] else None
+                        where = (f"{first['dt']:g} s ({first['omega_max_dt']:.3g})" if first
+                                 else "no")
+                        lines.append(f"| {scene} | {zeta:g} | {mesh_name(mesh)} | "
+                                     + " | ".join(cells) + f" | {where} | {dt_order(runs) or '–'} |")
+        lines.append("")
+    return lines
+
+
 def correlation_table(rows):
     """τ per scene, ratio and quantity: the median and largest over the runs, in periods."""
     taus = defaultdict(list)
@@ -437,6 +487,7 @@ def main():
              f"left out for cost: {meta.get('left_out') or 'none'}.", "",
              "## Convergence, scene by scene", ""]
     lines += convergence_tables(table, scenes, zetas)
+    lines += ["## Settling in Δt", ""] + dt_table(table, scenes, zetas)
     lines += ["## Correlation times and windows", ""] + correlation_table(rows) + [""]
     lines += ["## Where the energy sits", "",
               "Share of the modal energy (Σ over modes of ½q̇² + ½ω²q², averaged over the steady "
