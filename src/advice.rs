@@ -265,4 +265,21 @@ mod tests {
         beta_only.damping.mass_proportional = 5.913e-5 * 338.23f64.powi(2) / 4.0;
         assert_eq!(StatisticsAdvice::of(&beta_only), None);
     }
+
+    /// A modal ratio names the modal damping study and the Δt it needed, against the scene's;
+    /// other damping does not.
+    #[test]
+    fn a_modal_ratio_names_its_study() {
+        let mut s = Scene::named("forced-35hz").unwrap();
+        assert!(!StatisticsAdvice::of(&s).unwrap().message().contains(MODAL_DOCS));
+        s.damping.modal_ratio = 0.01;
+        let coarse = StatisticsAdvice::of(&s).unwrap().message();
+        assert!(coarse.contains(MODAL_DOCS), "{coarse}");
+        assert!(coarse.contains("solver.time_step <= 1e-6 s"), "{coarse}");
+        assert!(coarse.contains("this scene's is 1.000e-4 s"), "{coarse}");
+        assert!(coarse.contains(DOCS_SECTION), "{coarse}");
+        s.solver.time_step = 1e-6;
+        let fine = StatisticsAdvice::of(&s).unwrap().message();
+        assert!(fine.contains("as this scene's does"), "{fine}");
+    }
 }

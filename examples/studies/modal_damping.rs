@@ -6,7 +6,8 @@
 //! `cargo run --release --example modal_damping [-- --quick | --plan] [--out DIR] [selection]`
 //!
 //! Without a selection the committed plan runs ([`committed_plan`], `--plan` lists its lines), then
-//! `examples/studies/modal_damping_plots.py` writes the plots and the generated part of the page.
+//! `python -m plateimpact_tools.studies.modal_damping_plots` writes the plots and the generated
+//! part of the page.
 //! A selection runs a part of it, to share the study between processes (its CSVs are then
 //! concatenated and the plotting script run on the result): `--part middle,ratios,replicas,fine`,
 //! `--scenes LABEL,…` among [`SCENES`], `--zeta 0.005,0.01`, `--keep-mesh argyris:28x20,…` keep
@@ -1309,11 +1310,11 @@ fn study() -> Result<(), String> {
     if partial {
         eprintln!(
             "partial study done: concatenate its CSVs with the other parts', then run \
-             examples/studies/modal_damping_plots.py on them"
+             `python -m plateimpact_tools.studies.modal_damping_plots DIR` on them"
         );
         return Ok(());
     }
-    dir.plot("modal_damping_plots.py")?;
+    dir.plot("modal_damping_plots")?;
     dir.finish(dir.missing(&[
         "modal_damping.csv",
         "modal_damping_bands.csv",
