@@ -271,7 +271,10 @@ mod tests {
     #[test]
     fn a_modal_ratio_names_its_study() {
         let mut s = Scene::named("forced-35hz").unwrap();
-        assert!(!StatisticsAdvice::of(&s).unwrap().message().contains(MODAL_DOCS));
+        assert!(!StatisticsAdvice::of(&s)
+            .unwrap()
+            .message()
+            .contains(MODAL_DOCS));
         s.damping.modal_ratio = 0.01;
         let coarse = StatisticsAdvice::of(&s).unwrap().message();
         assert!(coarse.contains(MODAL_DOCS), "{coarse}");

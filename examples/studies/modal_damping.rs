@@ -9,7 +9,7 @@
 //! `python -m plateimpact_tools.studies.modal_damping_plots` writes the plots and the generated
 //! part of the page.
 //! A selection runs a part of it, to share the study between processes (its CSVs are then
-//! concatenated and the plotting script run on the result): `--part middle,ratios,replicas,fine`,
+//! concatenated and the plotting script run on the result): `--part middle,third,ratios,fine`,
 //! `--scenes LABEL,…` among [`SCENES`], `--zeta 0.005,0.01`, `--keep-mesh argyris:28x20,…` keep
 //! those lines of the plan; `--mesh argyris:10x7,fvs:14x10` runs those meshes instead of the
 //! plan's, `--dt 1e-5,1e-6` that ladder, `--duration S`, `--transient S`, `--window S`,
@@ -590,174 +590,77 @@ fn estimate(
 ///   28 × 20 (5 257 free dofs) for both scenes of the paper's plate, FVS 48 × 34 (5 040 free dofs)
 ///   for the 35 Hz one, Argyris 20 × 20 and FVS 28 × 28 for the square.
 fn committed_plan() -> Plan {
-    let mut lines = Vec::new();
-    let line = |part, forcing: Forcing, zeta, mesh, ladder: &[f64], max_run_cpu| Line {
+    use ElementKind::{Argyris, Fvs};
+    let mesh = |element, nx, ny| Mesh { element, nx, ny };
+    let line = |part, forcing: Forcing, zeta, mesh, ladder: &[f64], max_run_cpu, replicas| Line {
         part,
         forcing,
         zeta,
         mesh,
         ladder: ladder.to_vec(),
         max_run_cpu,
-        replicas: 0,
-        series: false,
+        replicas,
+        series: replicas > 0,
     };
-    use ElementKind::{Argyris, Fvs};
-    let cells =
-        |plate, paper: &[(usize, usize)], square: &[(usize, usize)]| -> Vec<(usize, usize)> {
-            if plate == Plate::Paper {
-                paper.to_vec()
-            } else {
-                square.to_vec()
-            }
-        };
-    // ζ = 1 %: the coarse and middle meshes down to 1e-7 s where affordable; the other ratios on
-    // the meshes between (the coarsest and the costliest left out), runs up to 60 CPU s.
-    let middle = (
-        [
-            (4, 2),
-            (6, 4),
-            (10, 7),
-            (14, 10),
-            (7, 5),
-            (14, 10),
-            (28, 20),
-        ],
-        [
-            (4, 4),
-            (7, 7),
-            (10, 10),
-            (14, 14),
-            (7, 7),
-            (14, 14),
-            (20, 20),
-        ],
-    );
-    for forcing in SCENES {
-        let all = cells(forcing.plate, &middle.0, &middle.1);
-        for (k, &(nx, ny)) in all.iter().enumerate() {
-            let element = if k < 4 { Argyris } else { Fvs };
-            let mesh = Mesh { element, nx, ny };
-            // The finest FVS mesh stops at 1e-6 s: Argyris 14 × 10 and 10 × 7 already show
-            // whether 1e-6 s is enough where ω_max·Δt is 8 to 15.
-            let ladder = if k == 6 { &LADDER[..3] } else { &LADDER[..] };
-            lines.push(line("middle", forcing, 0.01, mesh, ladder, 300.0));
+    let mut lines = Vec::new();
+    // Sized for about 20 CPU minutes on one core (the budget this machine had), in the order of
+    // what the findings need, so that a run cut short keeps the first parts whole.
+    // Part `middle`: ζ = 1 % on the paper's plate, both elements, coarse to middle meshes, Δt
+    // down to 1e-6 s (1e-7 s where a run stays under 40 CPU s); Argyris 10 × 7 and FVS 14 × 10
+    // with two replicas each (the replica spread of both elements).
+    for forcing in [SCENES[0], SCENES[1]] {
+        for (m, replicas) in [
+            (mesh(Argyris, 4, 2), 0),
+            (mesh(Argyris, 6, 4), 0),
+            (mesh(Argyris, 10, 7), 2),
+            (mesh(Argyris, 14, 10), 0),
+            (mesh(Fvs, 7, 5), 0),
+            (mesh(Fvs, 14, 10), 2),
+            (mesh(Fvs, 28, 20), 0),
+        ] {
+            // 1e-7 s only where a run stays under 40 CPU s; FVS 28 × 20 may take 120 at 1e-6 s.
+            let cap = if m == mesh(Fvs, 28, 20) { 120.0 } else { 40.0 };
+            lines.push(line("middle", forcing, 0.01, m, &LADDER, cap, replicas));
         }
     }
-    for forcing in SCENES {
+    // Part `third`: the aluminium plate at ζ = 1 %, two meshes of each element.
+    for m in [
+        mesh(Argyris, 7, 7),
+        mesh(Argyris, 10, 10),
+        mesh(Fvs, 14, 14),
+    ] {
+        lines.push(line("third", SCENES[2], 0.01, m, &LADDER[..3], 60.0, 0));
+    }
+    // Part `ratios`: ζ = 0.5 % and 2 % on the paper's plate, one middle mesh of each element.
+    for forcing in [SCENES[0], SCENES[1]] {
         for zeta in [0.005, 0.02] {
-            let all = cells(forcing.plate, &middle.0, &middle.1);
-            for (k, &(nx, ny)) in all
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| [2, 3, 5, 6].contains(k))
-            {
-                let element = if k < 4 { Argyris } else { Fvs };
-                let mesh = Mesh { element, nx, ny };
-                lines.push(line("ratios", forcing, zeta, mesh, &LADDER[1..3], 90.0));
+            for m in [
+                mesh(Argyris, 10, 7),
+                mesh(Argyris, 14, 10),
+                mesh(Fvs, 14, 10),
+            ] {
+                lines.push(line("ratios", forcing, zeta, m, &LADDER[1..3], 60.0, 0));
             }
         }
     }
-    for forcing in SCENES {
-        let zetas: &[f64] = if forcing.label == "forced-35hz" {
-            &[0.01, 0.005]
-        } else {
-            &[0.01]
-        };
-        for &zeta in zetas {
-            let (nx, ny) = cells(forcing.plate, &[(10, 7)], &[(10, 10)])[0];
-            lines.push(Line {
-                replicas: 4,
-                series: true,
-                ..line(
-                    "replicas",
-                    forcing,
-                    zeta,
-                    Mesh {
-                        element: Argyris,
-                        nx,
-                        ny,
-                    },
-                    &[1e-6],
-                    300.0,
-                )
-            });
-        }
-    }
-    // The fine meshes at Δt = 1e-6 s (where every middle mesh has settled in Δt); Argyris 20 × 14
-    // also at 1e-5 s, the mesh on which the paper's plate was first run finer than 14 × 10.
-    let fine: [(Forcing, Mesh, &[f64]); 7] = [
-        (
-            SCENES[0],
-            Mesh {
-                element: Argyris,
-                nx: 20,
-                ny: 14,
-            },
-            &[1e-5, 1e-6],
-        ),
-        (
-            SCENES[0],
-            Mesh {
-                element: Argyris,
-                nx: 28,
-                ny: 20,
-            },
-            &[1e-6],
-        ),
-        (
-            SCENES[0],
-            Mesh {
-                element: Fvs,
-                nx: 48,
-                ny: 34,
-            },
-            &[1e-6],
-        ),
-        (
-            SCENES[1],
-            Mesh {
-                element: Argyris,
-                nx: 20,
-                ny: 14,
-            },
-            &[1e-5, 1e-6],
-        ),
-        (
-            SCENES[1],
-            Mesh {
-                element: Argyris,
-                nx: 28,
-                ny: 20,
-            },
-            &[1e-6],
-        ),
-        (
-            SCENES[2],
-            Mesh {
-                element: Argyris,
-                nx: 20,
-                ny: 20,
-            },
-            &[1e-6],
-        ),
-        (
-            SCENES[2],
-            Mesh {
-                element: Fvs,
-                nx: 28,
-                ny: 28,
-            },
-            &[1e-6],
-        ),
-    ];
-    for (forcing, mesh, ladder) in fine {
-        lines.push(line("fine", forcing, 0.01, mesh, ladder, 1500.0));
+    // Part `fine`: Argyris 20 × 14 at ζ = 1 % (its set-up, two dense eigendecompositions, about
+    // 40 CPU s), the finest mesh this budget allows.
+    for forcing in [SCENES[0], SCENES[1]] {
+        lines.push(line(
+            "fine",
+            forcing,
+            0.01,
+            mesh(Argyris, 20, 14),
+            &LADDER[1..3],
+            250.0,
+            0,
+        ));
     }
     Plan {
         name: "committed",
         lines,
         transient: 1.0,
-        duration: 8.0,
+        duration: 6.0,
         window: 1.0,
         settle_tolerance: 0.01,
         overrides: Vec::new(),
@@ -856,9 +759,7 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
             .iter()
             .find(|p| !plan.lines.iter().any(|l| l.part == **p))
         {
-            return Err(format!(
-                "--part {bad}: use middle, ratios, replicas or fine"
-            ));
+            return Err(format!("--part {bad}: use middle, third, ratios or fine"));
         }
         plan.lines.retain(|l| parts.contains(&l.part));
         partial = true;
@@ -1185,6 +1086,41 @@ fn run_setting(
     Ok((runs, cost))
 }
 
+/// The meta file: the commit that ran, the settings, the runs left out for their cost, and
+/// whether the plan ran to its end.
+fn meta(
+    plan: &Plan,
+    args: &[String],
+    started: Instant,
+    left_out: &[String],
+    complete: bool,
+) -> String {
+    let mut parts: Vec<&str> = plan.lines.iter().map(|l| l.part).collect();
+    parts.dedup();
+    let mut meta = String::from("key,value\n");
+    for (k, v) in [
+        ("commit", commit()),
+        ("plan", plan.name.to_string()),
+        ("arguments", args.join(" ")),
+        ("complete", complete.to_string()),
+        ("total_s", format!("{:.1}", started.elapsed().as_secs_f64())),
+        ("cpu_s", format!("{:.1}", cpu_seconds())),
+        ("transient_s", plan.transient.to_string()),
+        ("duration_s", plan.duration.to_string()),
+        ("window_s", plan.window.to_string()),
+        ("parts", parts.join(" ")),
+        ("settle_tolerance", plan.settle_tolerance.to_string()),
+        ("overrides", plan.overrides.join(" ")),
+        ("replica_perturbation", REPLICA_PERTURBATION.to_string()),
+        ("sample_interval_s", SAMPLE_INTERVAL.to_string()),
+        ("modal_sample_interval_s", MODAL_SAMPLE_INTERVAL.to_string()),
+        ("left_out", left_out.join("; ")),
+    ] {
+        writeln!(meta, "{k},{v}").expect("write to string");
+    }
+    meta
+}
+
 fn study() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let dir = StudyDir::from_args(&args, "modal_damping", "accuracy")?;
@@ -1260,6 +1196,9 @@ fn study() -> Result<(), String> {
             let (runs, cost) = run_setting(&plan, line.replicas, &s, modes)?;
             tables.add(&plan, line, &s, modes, &runs, &cost);
             tables.write(&dir, plan.lines.iter().any(|l| l.series))?;
+            // Written after every run too, so that a study cut short records what it ran.
+            let unfinished = meta(&plan, &args, started, &left_out, false);
+            dir.write("modal_damping_meta.csv", &unfinished)?;
             eprintln!(
                 "[{:>3}/{}] {:<17} ζ={:<6} {:<14} Δt={:<6e} ω_max·Δt={:<9.3} {:>7.1} s, {:>6.1} CPU s, \
                  {:.2} µs/step (study {:.0} s)",
@@ -1285,28 +1224,10 @@ fn study() -> Result<(), String> {
             }
         }
     }
-    let mut parts: Vec<&str> = plan.lines.iter().map(|l| l.part).collect();
-    parts.dedup();
-    let mut meta = String::from("key,value\n");
-    for (k, v) in [
-        ("commit", commit()),
-        ("plan", plan.name.to_string()),
-        ("arguments", args.join(" ")),
-        ("total_s", format!("{:.1}", started.elapsed().as_secs_f64())),
-        ("transient_s", plan.transient.to_string()),
-        ("duration_s", plan.duration.to_string()),
-        ("window_s", plan.window.to_string()),
-        ("parts", parts.join(" ")),
-        ("settle_tolerance", plan.settle_tolerance.to_string()),
-        ("overrides", plan.overrides.join(" ")),
-        ("replica_perturbation", REPLICA_PERTURBATION.to_string()),
-        ("sample_interval_s", SAMPLE_INTERVAL.to_string()),
-        ("modal_sample_interval_s", MODAL_SAMPLE_INTERVAL.to_string()),
-        ("left_out", left_out.join("; ")),
-    ] {
-        writeln!(meta, "{k},{v}").expect("write to string");
-    }
-    dir.write("modal_damping_meta.csv", &meta)?;
+    dir.write(
+        "modal_damping_meta.csv",
+        &meta(&plan, &args, started, &left_out, true),
+    )?;
     if partial {
         eprintln!(
             "partial study done: concatenate its CSVs with the other parts', then run \
