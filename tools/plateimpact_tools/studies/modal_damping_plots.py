@@ -6,8 +6,7 @@ modal_damping_meshes.csv, modal_damping_meta.csv and, when present, modal_dampin
 average against ω_max·Δt, one line per mesh), DIR/modal_damping_mesh.png (each mesh at its smallest
 Δt against its free dofs), DIR/modal_damping_bands.png (the modal energy per band of natural
 frequency), DIR/modal_damping_correlation.png (autocorrelation of the per-period series, with
-the periods file) and the part of DIR/modal_damping.md between the markers GENERATED_BEGIN and
-GENERATED_END (the rest of the page is hand-written).
+the periods file) and the part of DIR/modal_damping.md between its `generated: modal-damping` markers (the rest of the page is hand-written).
 
 Definitions (σ: a run's spread, the largest of its window, correlation and replica estimates):
 - two values *agree to a tolerance* when they differ by at most the tolerance (relative) or by at
@@ -51,9 +50,9 @@ QUANTITIES = {
 TIME_AVERAGES = ["mean_energy_J", "rms_corner_m", "mean_abs_base_force_N", "rms_base_force_N"]
 TOLERANCE = 0.01
 LOOSE_TOLERANCE = 0.05
-BEGIN = ("<!-- GENERATED_BEGIN by python -m plateimpact_tools.studies.modal_damping_plots: "
-         "do not edit below -->")
-END = "<!-- GENERATED_END -->"
+BEGIN = ("<!-- generated: modal-damping (python -m plateimpact_tools.studies.modal_damping_plots; "
+         "do not edit) -->")
+END = "<!-- end generated: modal-damping -->"
 
 
 def md(text):
