@@ -1009,7 +1009,7 @@ impl Tables {
             .expect("write to string");
         }
         let total: f64 = steady.iter().map(|p| p.bands.iter().sum::<f64>()).sum();
-        for b in 0..BAND_EDGES_HZ.len() {
+        for (b, &low) in BAND_EDGES_HZ.iter().enumerate() {
             let band = |ps: &[Period]| {
                 ps.iter().map(|p| p.bands[b]).sum::<f64>()
                     / ps.iter().map(|p| p.modal_samples as f64).sum::<f64>()
@@ -1024,7 +1024,7 @@ impl Tables {
                 self.bands,
                 "{key},{:e},{},{high},{count},{:.6e},{:.3e},{share:.6e}",
                 s.dt,
-                BAND_EDGES_HZ[b],
+                low,
                 e.value,
                 e.spread(),
             )
