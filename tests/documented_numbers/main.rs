@@ -12,6 +12,7 @@ mod study;
 
 mod accuracy;
 mod damping;
+mod modal_damping;
 mod readme;
 mod statistics;
 mod studies;
@@ -26,12 +27,13 @@ fn root() -> &'static Path {
 type Document = (&'static str, fn() -> claims::Claims);
 
 /// The documents whose prose is checked.
-const DOCUMENTS: [Document; 5] = [
+const DOCUMENTS: [Document; 6] = [
     ("README.md", readme::claims),
     ("docs/studies.md", studies::claims),
     ("docs/accuracy/README.md", accuracy::claims),
     ("docs/accuracy/statistics.md", statistics::claims),
     ("docs/accuracy/damping.md", damping::claims),
+    ("docs/accuracy/modal_damping.md", modal_damping::claims),
 ];
 
 /// Checks the claims of `document`.
@@ -89,4 +91,9 @@ fn statistics() {
 #[test]
 fn damping() {
     check("docs/accuracy/damping.md");
+}
+
+#[test]
+fn modal_damping() {
+    check("docs/accuracy/modal_damping.md");
 }

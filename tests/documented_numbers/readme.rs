@@ -1,7 +1,9 @@
-//! The claims of README.md: its accuracy bullets, from the damping study's CSVs.
+//! The claims of README.md: its accuracy bullets, from the damping and modal damping studies'
+//! CSVs.
 
 use super::claims::Claims;
 use super::damping;
+use super::modal_damping;
 
 pub fn claims() -> Claims {
     let mut c = Claims::new("README.md");
@@ -16,5 +18,6 @@ pub fn claims() -> Claims {
     );
     c.skip_block("| regime |", "the speed table of the bullet above");
     damping::readme(&mut c);
+    modal_damping::readme(&mut c);
     c
 }

@@ -1,0 +1,521 @@
+//! The claims of docs/accuracy/modal_damping.md (the modal damping study), from
+//! modal_damping.csv, modal_damping_bands.csv, modal_damping_meshes.csv and
+//! modal_damping_meta.csv.
+
+use super::claims::Claims;
+use super::data::{table, Row, Table};
+use std::f64::consts::PI;
+
+const DIR: &str = "docs/accuracy/";
+
+pub fn claims() -> Claims {
+    let mut c = Claims::new("docs/accuracy/modal_damping.md");
+    let runs = table(&format!("{DIR}modal_damping.csv"));
+    let meshes = table(&format!("{DIR}modal_damping_meshes.csv"));
+    design(&mut c, &meshes);
+    c.value(
+        "what ran took {10} CPU minutes in all",
+        super::data::meta(&format!("{DIR}modal_damping_meta.csv"), "cpu_s") / 60.0,
+    );
+    findings(&mut c, &runs);
+    c
+}
+
+/// The study's settings, as the page states them.
+fn design(c: &mut Claims, meshes: &Table) {
+    c.given(&[
+        "ζ of 0.5–2 %",
+        "η ≈ 2ζ",
+        "2ζω_k",
+        "§10",
+        "ζ = 1 %",
+        "ζ ∈ {0.5 %, 1 %, 2 %}",
+        "0.4 × 0.2 × 0.01 m",
+        "x = 0",
+        "±10 mm",
+        "9 mm at 35 Hz",
+        "2 mm at 60 Hz",
+        "E = 70 GPa, ν = 0.33, ρ = 2700 kg/m³",
+        "0.3 × 0.3 m, 5 mm thick",
+        "±5 mm",
+        "4 mm at 40 Hz",
+        "aspect ratio is 1 instead of 2",
+        "(S/2)",
+        "(0.8 of the gap)",
+        "Δt = 1e-4, 1e-5, 1e-6 s",
+        "within 1 %",
+        "within 2σ",
+        "a shared 2-core machine",
+        "about a quarter of a core",
+        "Δt down to 1e-6 s",
+        "Δt = 1e-5 and 1e-6 s",
+        "ζ = 0.5 % and 2 %",
+        "(5 257 free dofs",
+        "about 2 CPU minutes",
+        "1.7 GB",
+        "about 9 CPU minutes",
+        "Δt = 1e-7 s (a run costs 25 to 90 CPU s",
+        "more than two replicas",
+        "1 s of transient from rest, then 6 s of steady state",
+        "nearest 1 s (35, 60 and 40 periods)",
+        "the 6 window values over √6",
+        "2 more runs",
+        "k·2.5e-11 m·√kg",
+        "k·1e-11 m",
+        "the 3 run values",
+        "E_k = ½((q_k,n − q_k,n−1)/Δt)² + ¼ω_k²(q_k,n² + q_k,n−1²)",
+        "(0–100 Hz, 100–300 Hz, 300 Hz–1 kHz, … 300 kHz–1 MHz, above)",
+        "every 1e-4 s",
+        "(to 1e-6 relative)",
+        "M ≥ 5τ(M)",
+        "2ζ",
+    ]);
+    let f1 = |plate: &str, mesh: &str| {
+        meshes
+            .one(&format!("plate={plate} mesh={mesh}"))
+            .number("omega1_rad_s")
+            / (2.0 * PI)
+    };
+    c.value(
+        "first natural frequency f₁ = {53.8} Hz",
+        f1("Paper", "argyris:14x10"),
+    );
+    c.value("(its f₁ is {47.7} Hz)", f1("Aluminium", "argyris:10x10"));
+    // The modal density (S/2)·√(ρe/D) of each plate, from its parameters (written above).
+    let density = |area: f64, rho: f64, e: f64, young: f64, nu: f64| {
+        let d = young * e.powi(3) / (12.0 * (1.0 - nu * nu));
+        area / 2.0 * (rho * e / d).sqrt()
+    };
+    c.value(
+        "is {2.3} times the paper plate's",
+        density(0.09, 2700.0, 0.005, 7e10, 0.33) / density(0.08, 7770.0, 0.01, 2.1e11, 0.3),
+    );
+}
+
+/// The run of `quantity` of `scene` at ratio `zeta` on `mesh` (`argyris:10x7`) at Δt = `dt`.
+fn run<'a>(runs: &'a Table, q: &str, scene: &str, zeta: f64, mesh: &str, dt: f64) -> Row<'a> {
+    runs.one(&format!(
+        "quantity={q} scene={scene} modal_ratio={zeta} mesh={mesh} dt={dt}"
+    ))
+}
+
+/// The value of [`run`], scaled (1e3 for mm from m, 1e-3 for kN from N, 100 for % from a share).
+fn value(runs: &Table, q: &str, scene: &str, zeta: f64, mesh: &str, dt: f64, scale: f64) -> f64 {
+    run(runs, q, scene, zeta, mesh, dt).number("value") * scale
+}
+
+/// The values of `q` at 1e-6 s on `meshes`, scaled.
+fn at_finest(
+    runs: &Table,
+    q: &str,
+    scene: &str,
+    zeta: f64,
+    meshes: &[&str],
+    scale: f64,
+) -> Vec<f64> {
+    meshes
+        .iter()
+        .map(|m| value(runs, q, scene, zeta, m, 1e-6, scale))
+        .collect()
+}
+
+/// Every value of `q` on `meshes`, at every Δt each ran, scaled.
+fn every_dt(
+    runs: &Table,
+    q: &str,
+    scene: &str,
+    zeta: f64,
+    meshes: &[&str],
+    scale: f64,
+) -> Vec<f64> {
+    meshes
+        .iter()
+        .flat_map(|m| {
+            runs.select(&format!(
+                "quantity={q} scene={scene} modal_ratio={zeta} mesh={m}"
+            ))
+        })
+        .map(|r| r.number("value") * scale)
+        .collect()
+}
+
+const E: &str = "mean_energy_J";
+const CORNER: &str = "rms_corner_m";
+const RMS_FORCE: &str = "rms_base_force_N";
+const IMPACTS: &str = "impacts_per_period";
+const ABOVE_1K: &str = "modal_share_above_1khz";
+const ABOVE_10K: &str = "modal_share_above_10khz";
+const ARGYRIS: [&str; 3] = ["argyris:6x4", "argyris:10x7", "argyris:14x10"];
+const FVS: [&str; 3] = ["fvs:7x5", "fvs:14x10", "fvs:28x20"];
+/// The finest Argyris mesh, run at 35 Hz only (the `fine` part).
+const FINE: &str = "argyris:20x14";
+
+/// What the study found.
+fn findings(c: &mut Claims, runs: &Table) {
+    c.given(&[
+        "the 6 s of steady state",
+        "\"at 1e-6 s\"",
+        "± 0.1 J",
+        "± 0.02 mm",
+        "Δt = 1e-4, 1e-5 and 1e-6 s",
+        "from 1e-4 s down",
+        "ζ = 1 %",
+        "the 1 s windows (35, 60 and 40 periods)",
+        "at 1e-5 and 1e-6 s",
+        "above 1/Δt",
+        "with 1/Δt",
+        "(35, 60 and 40 periods)",
+        "the 6 s could not",
+        "35 Hz",
+        "60 Hz",
+        "1e-4 s",
+        "1e-5 s",
+        "1e-6 s",
+        "1e-5 to 1e-6 s",
+        "1e-5 and 1e-6 s",
+        "1 kHz",
+        "10 kHz",
+        "ratio of 1 %",
+        "ratio of 1 %",
+        "ζ = 2 %",
+        "ζ = 0.5 %",
+    ]);
+    sixty(c, runs);
+    thirty_five(c, runs);
+    energy(c, runs);
+    correlation(c, runs);
+    ratios(c, runs);
+    third(c, runs);
+}
+
+fn sixty(c: &mut Claims, runs: &Table) {
+    let s = "forced-60hz";
+    let settled = [
+        "argyris:6x4",
+        "argyris:10x7",
+        "argyris:14x10",
+        "fvs:14x10",
+        "fvs:28x20",
+    ];
+    c.range(
+        "mean energy lies within {13.47}–{13.55} J",
+        &every_dt(runs, E, s, 0.01, &settled, 1.0),
+    );
+    c.range(
+        "RMS free corner within {7.154}–{7.176} mm",
+        &every_dt(runs, CORNER, s, 0.01, &settled, 1e3),
+    );
+    let finest = |q: &str, scale: f64| {
+        0.5 * (value(runs, q, s, 0.01, "argyris:14x10", 1e-6, scale)
+            + value(runs, q, s, 0.01, "fvs:28x20", 1e-6, scale))
+    };
+    c.value("mean energy {13.5} ± 0.1 J", finest(E, 1.0));
+    c.value("RMS corner {7.16} ± 0.02 mm", finest(CORNER, 1e3));
+    c.values(
+        "({5.57}, {5.56}, {5.52} kN on 6 × 4",
+        &at_finest(runs, RMS_FORCE, s, 0.01, &ARGYRIS, 1e-3),
+    );
+    c.values(
+        "({5.35}, {5.46}, {5.49} kN on 7 × 5",
+        &at_finest(runs, RMS_FORCE, s, 0.01, &FVS, 1e-3),
+    );
+    let a = value(runs, RMS_FORCE, s, 0.01, "argyris:14x10", 1e-6, 1.0);
+    let f = value(runs, RMS_FORCE, s, 0.01, "fvs:28x20", 1e-6, 1.0);
+    c.value("the two finest {0.5} % apart", 100.0 * (a / f - 1.0).abs());
+    let ladder = |q: &str, scale: f64| -> Vec<f64> {
+        [1e-4, 1e-5, 1e-6]
+            .iter()
+            .map(|&dt| value(runs, q, s, 0.01, "argyris:10x7", dt, scale))
+            .collect()
+    };
+    c.values(
+        "it is {4.70}, {5.26} and {5.56} kN",
+        &ladder(RMS_FORCE, 1e-3),
+    );
+    c.values(
+        "(Argyris 10 × 7: {2.2}, {5.9}, {14.0} at the",
+        &ladder(IMPACTS, 1.0),
+    );
+}
+
+fn thirty_five(c: &mut Claims, runs: &Table) {
+    let s = "forced-35hz";
+    let finest = |q: &str, meshes: &[&str], scale: f64| at_finest(runs, q, s, 0.01, meshes, scale);
+    let periodic = [ARGYRIS.as_slice(), FVS.as_slice()].concat();
+    let at_1e4: Vec<f64> = periodic
+        .iter()
+        .map(|m| value(runs, E, s, 0.01, m, 1e-4, 1.0))
+        .collect();
+    c.range("mean energy {8.46}–{8.81} J)", &at_1e4);
+    let argyris = [ARGYRIS.as_slice(), &[FINE]].concat();
+    let energy_a = finest(E, &argyris, 1.0);
+    let energy_f = finest(E, &FVS, 1.0);
+    c.values(
+        "the mean energy is {11.67}, {11.21}, {10.48} and {9.90} J",
+        &energy_a,
+    );
+    c.values("and {11.20}, {9.81} and {9.81} J on FVS", &energy_f);
+    c.value("by {0.59} J from 14 × 10", energy_a[2] - energy_a[3]);
+    c.value("the step before ({0.72} J)", energy_a[1] - energy_a[2]);
+    c.value(
+        "its finest is {0.8} % above",
+        100.0 * (energy_a[3] / energy_f[2] - 1.0),
+    );
+    let moved = |mesh: &str| {
+        100.0
+            * (value(runs, E, s, 0.01, mesh, 1e-6, 1.0) / value(runs, E, s, 0.01, mesh, 1e-5, 1.0)
+                - 1.0)
+    };
+    c.values(
+        "moved by {1.5} % (Argyris 20 × 14) and {0.6} % (FVS 28 × 20)",
+        &[moved(FINE), moved("fvs:28x20")],
+    );
+    let corner_a = finest(CORNER, &argyris, 1e3);
+    let corner_f = finest(CORNER, &FVS, 1e3);
+    c.values("alike: {6.32}, {6.52} and {6.57} mm", &corner_a[1..]);
+    c.values("{6.51}, {6.56} and {6.61} mm on the FVS", &corner_f);
+    c.value(
+        "the finest {0.6} % apart",
+        100.0 * (corner_f[2] / corner_a[3] - 1.0).abs(),
+    );
+    let force_a = finest(RMS_FORCE, &argyris, 1e-3);
+    let force_f = finest(RMS_FORCE, &FVS, 1e-3);
+    c.values(
+        "({7.92}, {7.84}, {7.80}, {7.84} kN on the Argyris",
+        &force_a,
+    );
+    c.values("{6.36}, {7.34}, {7.80} kN on the FVS", &force_f);
+    c.upper(
+        "within {0.6} % of each other)",
+        100.0 * (force_a[3] / force_f[2] - 1.0).abs(),
+    );
+    let coarser = value(runs, RMS_FORCE, s, 0.01, "fvs:28x20", 1e-5, 1e-3);
+    c.value(
+        "it rose by {58} % from",
+        100.0 * (force_f[2] / coarser - 1.0),
+    );
+    c.values(
+        "({15.4}, {20.2}, {26.9}, {29.1} on the",
+        &finest(IMPACTS, &argyris, 1.0),
+    );
+    let dofs = runs.one(&format!("quantity={E} scene={s} mesh={FINE} dt=1e-6"));
+    c.value(
+        "on meshes up to {2 675} free dofs",
+        dofs.number("free_dofs"),
+    );
+    c.range(
+        "the mean energy ({9.8}–{9.9} J)",
+        &[energy_a[3], energy_f[2]],
+    );
+    c.value("RMS corner ({6.6} mm)", 0.5 * (corner_a[3] + corner_f[2]));
+    c.upper(
+        "finest meshes agree within {1} %",
+        [
+            100.0 * (energy_a[3] / energy_f[2] - 1.0).abs(),
+            100.0 * (corner_f[2] / corner_a[3] - 1.0).abs(),
+        ]
+        .iter()
+        .cloned()
+        .fold(0.0, f64::max),
+    );
+    let worst_finest = [
+        100.0 * (energy_a[3] / energy_f[2] - 1.0).abs(),
+        100.0 * (corner_f[2] / corner_a[3] - 1.0).abs(),
+        100.0 * (force_a[3] / force_f[2] - 1.0).abs(),
+    ]
+    .iter()
+    .cloned()
+    .fold(0.0, f64::max);
+    c.upper(
+        "their finest meshes agree within {1} % on the mean energy",
+        worst_finest,
+    );
+    c.upper("Argyris needs 20 × 14 to come within {1} %", worst_finest);
+    let all = [energy_a, energy_f].concat();
+    let (lo, hi) = super::data::span(&all);
+    c.value("is up to {19} % high", 100.0 * (hi / lo - 1.0));
+}
+
+fn ratios(c: &mut Claims, runs: &Table) {
+    let s = "forced-35hz";
+    let v = |zeta: f64, mesh: &str, dt: f64| value(runs, E, s, zeta, mesh, dt, 1.0);
+    let spreads: Vec<f64> = runs
+        .select(&format!("scene={s} modal_ratio=0.02 dt=1e-6"))
+        .iter()
+        .filter(|r| [E, CORNER, "mean_abs_base_force_N", RMS_FORCE].contains(&r.text("quantity")))
+        .map(|r| 100.0 * r.number("spread") / r.number("value"))
+        .collect();
+    c.upper(
+        "(spreads below {0.3} %)",
+        spreads.iter().cloned().fold(0.0, f64::max),
+    );
+    let (a2, f2) = (v(0.02, "argyris:10x7", 1e-6), v(0.02, "fvs:14x10", 1e-6));
+    c.value("two elements are {3.1} % apart", 100.0 * (f2 / a2 - 1.0));
+    c.values("({8.92} and {9.19} J)", &[a2, f2]);
+    c.value(
+        "still moved by {4.1} % from",
+        100.0 * (1.0 - a2 / v(0.02, "argyris:10x7", 1e-5)),
+    );
+    let (a5, f5) = (v(0.005, "argyris:10x7", 1e-6), v(0.005, "fvs:14x10", 1e-6));
+    c.value("they are {12} % apart", 100.0 * (a5 / f5 - 1.0));
+    c.values("({12.34} and {10.97} J)", &[a5, f5]);
+    c.value(
+        "moved by {14} %",
+        100.0 * (a5 / v(0.005, "argyris:10x7", 1e-5) - 1.0),
+    );
+}
+
+fn third(c: &mut Claims, runs: &Table) {
+    let s = "aluminium-square";
+    let meshes = ["argyris:10x10", "fvs:14x14"];
+    let at = |q: &str, scale: f64, dt: f64| -> Vec<f64> {
+        meshes
+            .iter()
+            .map(|m| value(runs, q, s, 0.01, m, dt, scale))
+            .collect()
+    };
+    c.values("mean energy ({0.483} and {0.485} J)", &at(E, 1.0, 1e-6));
+    c.values("corner ({3.25} and {3.26} mm)", &at(CORNER, 1e3, 1e-6));
+    let changes: Vec<f64> = [E, CORNER]
+        .iter()
+        .flat_map(|q| {
+            let (fine, coarse) = (at(q, 1.0, 1e-6), at(q, 1.0, 1e-5));
+            (0..2).map(move |k| 100.0 * (fine[k] / coarse[k] - 1.0).abs())
+        })
+        .collect();
+    c.upper(
+        "each within {0.3} % of its value",
+        changes.iter().cloned().fold(0.0, f64::max),
+    );
+    let coarse = run(runs, E, s, 0.01, "argyris:7x7", 1e-6);
+    c.values(
+        "({0.52} ± {0.03} J)",
+        &[coarse.number("value"), coarse.number("spread")],
+    );
+    let force = at(RMS_FORCE, 1e-3, 1e-6);
+    c.values("converge: {0.419} and {0.466} kN", &force);
+    c.value("kN, {11} % apart", 100.0 * (force[1] / force[0] - 1.0));
+    c.given(&["within about 0.5 %"]);
+    let energy = at(E, 1.0, 1e-6);
+    let corner = at(CORNER, 1.0, 1e-6);
+    assert!(
+        (energy[1] / energy[0] - 1.0).abs() < 0.005 && (corner[1] / corner[0] - 1.0).abs() < 0.005,
+        "the page says the elements agree within about 0.5 %"
+    );
+    c.values(
+        "above 1 kHz ({20.9} and {22.8} %)",
+        &at(ABOVE_1K, 100.0, 1e-6),
+    );
+}
+
+fn energy(c: &mut Claims, runs: &Table) {
+    let share = |q: &str, s: &str, meshes: &[&str]| at_finest(runs, q, s, 0.01, meshes, 100.0);
+    let argyris = [ARGYRIS.as_slice(), &[FINE]].concat();
+    c.values(
+        "at 35 Hz: {10.4}, {11.7}, {13.5} and {17.1} %",
+        &share(ABOVE_1K, "forced-35hz", &argyris),
+    );
+    c.values(
+        "{9.6}, {15.9} and {18.3} % on FVS",
+        &share(ABOVE_1K, "forced-35hz", &FVS),
+    );
+    c.range(
+        "it lies within {1.7}–{2.6} % on all",
+        &[
+            share(ABOVE_10K, "forced-35hz", &argyris),
+            share(ABOVE_10K, "forced-35hz", &FVS),
+        ]
+        .concat(),
+    );
+    c.values(
+        "settles: {1.98}, {1.86} and {1.85} %",
+        &share(ABOVE_1K, "forced-60hz", &ARGYRIS),
+    );
+    c.values(
+        "{1.92}, {1.84} and {1.81} % on the FVS",
+        &share(ABOVE_1K, "forced-60hz", &FVS),
+    );
+}
+
+fn correlation(c: &mut Claims, runs: &Table) {
+    let quantities = [E, CORNER, "mean_abs_base_force_N", RMS_FORCE, IMPACTS];
+    let taus: Vec<f64> = quantities
+        .iter()
+        .flat_map(|q| runs.select(&format!("quantity={q}")))
+        .map(|r| r.number("tau_periods"))
+        .collect();
+    let unresolved: Vec<Row> = quantities
+        .iter()
+        .flat_map(|q| runs.select(&format!("quantity={q} tau_resolved=false")))
+        .collect();
+    let rows = quantities
+        .iter()
+        .map(|q| runs.select(&format!("quantity={q}")).len())
+        .sum::<usize>();
+    c.values(
+        "resolve (Sokal's window reached a quarter of the series): {18} of the {315} rows",
+        &[unresolved.len() as f64, rows as f64],
+    );
+    let longest = unresolved
+        .iter()
+        .max_by(|a, b| a.number("tau_periods").total_cmp(&b.number("tau_periods")))
+        .expect("unresolved runs");
+    assert_eq!(
+        (longest.text("scene"), longest.text("nx")),
+        ("aluminium-square", "7"),
+        "the page names the aluminium plate on Argyris 7 × 7 as the longest"
+    );
+    c.value("(τ up to {68} periods", longest.number("tau_periods"));
+    c.value(
+        "a median of {0.7} forcing periods",
+        super::study::median(&taus),
+    );
+    let ratios: Vec<f64> = quantities[..4]
+        .iter()
+        .flat_map(|q| {
+            runs.select(&format!(
+                "quantity={q} mesh=argyris:10x7 replicas=2 dt<=1e-5"
+            ))
+        })
+        .map(|r| r.number("replica_spread") / r.number("window_spread"))
+        .collect();
+    c.range("the two replicas is {0.1}–{1.8} times", &ratios);
+}
+
+/// The README's bullet on the study.
+pub fn readme(c: &mut Claims) {
+    let runs = table(&format!("{DIR}modal_damping.csv"));
+    c.given(&[
+        "A modal ratio of 1 %",
+        "at 60 Hz the mean energy",
+        "at 35 Hz the finest",
+    ]);
+    let sixty = |q: &str, scale: f64| {
+        0.5 * (value(&runs, q, "forced-60hz", 0.01, "argyris:14x10", 1e-6, scale)
+            + value(&runs, q, "forced-60hz", 0.01, "fvs:28x20", 1e-6, scale))
+    };
+    c.value("the mean energy ({13.5} J)", sixty(E, 1.0));
+    c.value("RMS corner ({7.16} mm)", sixty(CORNER, 1e3));
+    let s = "forced-35hz";
+    let a = value(&runs, E, s, 0.01, FINE, 1e-6, 1.0);
+    let f = value(&runs, E, s, 0.01, "fvs:28x20", 1e-6, 1.0);
+    c.upper(
+        "finest meshes agree within {1} %",
+        100.0 * (a / f - 1.0).abs(),
+    );
+    c.range("({9.8}–{9.9} J)", &[a, f]);
+    let energies = [
+        at_finest(
+            &runs,
+            E,
+            s,
+            0.01,
+            &[ARGYRIS.as_slice(), &[FINE]].concat(),
+            1.0,
+        ),
+        at_finest(&runs, E, s, 0.01, &FVS, 1.0),
+    ]
+    .concat();
+    let (lo, hi) = super::data::span(&energies);
+    c.value("up to {19} % high", 100.0 * (hi / lo - 1.0));
+}
