@@ -13,6 +13,10 @@
 //! round-off and only the highest modes, which the time scheme barely moves (½Δt²ω² ≫ 1), carry the
 //! error. Dense cost O(n³): fine up to a few thousand free dofs.
 
+pub mod band;
+pub mod bulge;
+pub mod divide;
+
 use crate::error::Error;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
@@ -99,7 +103,7 @@ pub fn generalized_eigen(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<Modes,
 /// (eigenvalue errors ≈ ε‖C‖). faer's default switches to divide and conquer above 128 rows, whose
 /// eigenpairs we measured accurate only to about 1e-11‖C‖ on the graded plate pencils: too coarse
 /// for the small end of the spectrum, so the recursion is switched off here.
-fn symmetric_eigen_qr(c: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>), Error> {
+pub(super) fn symmetric_eigen_qr(c: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>), Error> {
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::linalg::evd::{self, ComputeEigenvectors, SelfAdjointEvdParams};
     let n = c.nrows();
