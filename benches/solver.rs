@@ -329,6 +329,23 @@ fn peak_memory_mib() -> f64 {
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
+/// CPU seconds this thread has run (clock_gettime with CLOCK_THREAD_CPUTIME_ID): on a loaded
+/// machine the wall clock also counts the other processes' turns, this does not. The cases run
+/// single-threaded, so it is also the process's.
+fn cpu_seconds() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `t` is a valid timespec for the call to fill.
+    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    if status == 0 {
+        t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
+    } else {
+        f64::NAN
+    }
+}
+
 /// What one case measured.
 struct CaseResult;
 
@@ -337,12 +354,14 @@ impl CaseResult {
     const HEADER: &'static str = "| case | element | nx | ny | backend | free dofs | constrained | \
                                   assembly s | backend set-up s | steps | µs/step | contact-free \
                                   steps | µs each | steps with a QP | µs each | most active | peak \
-                                  MiB after set-up | peak MiB at end |\n\
-                                  |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|";
+                                  MiB after set-up | peak MiB at end | set-up CPU s | contact-free CPU \
+                                  µs | QP CPU µs | Σ active | u at the outputs (end) |\n\
+                                  |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|";
     /// The columns of one case.
     const CSV_HEADER: &'static str = "case,element,nx,ny,backend,free_dofs,constrained,assembly_s,\
                                       setup_s,steps,us_per_step,free_steps,free_us,qp_steps,qp_us,\
-                                      most_active,peak_setup_mib,peak_end_mib";
+                                      most_active,peak_setup_mib,peak_end_mib,setup_cpu_s,free_cpu_us,\
+                                      qp_cpu_us,active_sum,outputs_end";
 }
 
 fn run_case(case: &Case, csv: bool) {
@@ -350,22 +369,24 @@ fn run_case(case: &Case, csv: bool) {
     let t = Instant::now();
     let plate = PlateSystem::new(s).unwrap();
     let assembly = t.elapsed().as_secs_f64();
-    let t = Instant::now();
+    let (t, cpu) = (Instant::now(), cpu_seconds());
     let mut stepper = Stepper::from_system(s, &plate, 0.0).unwrap();
     let setup = t.elapsed().as_secs_f64();
+    let setup_cpu = cpu_seconds() - cpu;
     drop(plate);
     let memory_setup = peak_memory_mib();
     let steps = (s.stop_time / s.solver.time_step).round() as usize;
-    // (count, seconds) of contact-free steps and of steps with a QP.
-    let mut free = (0usize, 0.0f64);
-    let mut qp = (0usize, 0.0f64);
-    let mut most_active = 0;
+    // (count, seconds, CPU seconds) of contact-free steps and of steps with a QP.
+    let mut free = (0usize, 0.0f64, 0.0f64);
+    let mut qp = (0usize, 0.0f64, 0.0f64);
+    let (mut most_active, mut active_sum) = (0, 0);
     let t = Instant::now();
     for n in 1..=steps {
         let z = s.builtin_base(n as f64 * s.solver.time_step);
-        let t_step = Instant::now();
+        let (t_step, cpu) = (Instant::now(), cpu_seconds());
         let report = stepper.step(z).unwrap();
         let elapsed = t_step.elapsed().as_secs_f64();
+        let elapsed_cpu = cpu_seconds() - cpu;
         let slot = if report.path == StepPath::Unconstrained {
             &mut free
         } else {
@@ -373,10 +394,13 @@ fn run_case(case: &Case, csv: bool) {
         };
         slot.0 += 1;
         slot.1 += elapsed;
+        slot.2 += elapsed_cpu;
         most_active = most_active.max(report.active);
+        active_sum += report.active;
     }
     let per_step = t.elapsed().as_secs_f64() / steps as f64;
-    let mean_us = |(count, time): (usize, f64)| 1e6 * time / count.max(1) as f64;
+    let mean_us = |count: usize, time: f64| 1e6 * time / count.max(1) as f64;
+    let outputs = stepper.output_point_displacements()[1].map(|u| format!("{u:.15e}"));
     let fields = [
         case.name.clone(),
         format!("{:?}", s.mesh.element),
@@ -390,12 +414,17 @@ fn run_case(case: &Case, csv: bool) {
         steps.to_string(),
         format!("{:.2}", 1e6 * per_step),
         free.0.to_string(),
-        format!("{:.2}", mean_us(free)),
+        format!("{:.2}", mean_us(free.0, free.1)),
         qp.0.to_string(),
-        format!("{:.2}", mean_us(qp)),
+        format!("{:.2}", mean_us(qp.0, qp.1)),
         most_active.to_string(),
         format!("{memory_setup:.1}"),
         format!("{:.1}", peak_memory_mib()),
+        format!("{setup_cpu:.3}"),
+        format!("{:.2}", mean_us(free.0, free.2)),
+        format!("{:.2}", mean_us(qp.0, qp.2)),
+        active_sum.to_string(),
+        outputs.join(" "),
     ];
     if csv {
         println!("{}", fields.join(","));

@@ -141,8 +141,8 @@ fn sample_shapes(
         .map(|k| {
             // The mode over all dofs: its free-dof values, and 0 on the clamp (base at rest).
             let mut u = vec![0.0; plate.disc.dof_count];
-            for (i, &d) in plate.free.iter().enumerate() {
-                u[d] = modes.shapes[(i, k)];
+            for (&d, phi) in plate.free.iter().zip(modes.shapes.column(k)) {
+                u[d] = phi;
             }
             let values: Vec<Vec<f64>> = functionals
                 .iter()

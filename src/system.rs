@@ -4,7 +4,7 @@
 use crate::assembly::{Discretization, PointFunctional};
 use crate::element::Jet;
 use crate::error::Error;
-use crate::modes::{dense_restriction, generalized_eigen, Modes};
+use crate::modes::{generalized_eigen, sparse_restriction, Modes};
 use crate::scene::Scene;
 use faer::sparse::SparseColMat;
 
@@ -85,11 +85,11 @@ impl PlateSystem {
         })
     }
 
-    /// Eigenpairs of the plate clamped at rest (dense: O(n³) in the free dofs).
+    /// Eigenpairs of the plate clamped at rest (O(n³) in the free dofs, [`crate::modes`]).
     pub fn modes(&self) -> Result<Modes, Error> {
         generalized_eigen(
-            &dense_restriction(&self.mass, &self.free),
-            &dense_restriction(&self.stiffness, &self.free),
+            &sparse_restriction(self.mass.as_ref(), &self.free),
+            &sparse_restriction(self.stiffness.as_ref(), &self.free),
         )
     }
 }

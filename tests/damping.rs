@@ -382,9 +382,7 @@ fn modal_histories<const N: usize>(
     let mass = sparse_restriction(plate.mass.as_ref(), &plate.free);
     // M_ff φ_k, so that q_k = (M_ff φ_k)ᵀ w_f.
     let weights = ks.map(|k| {
-        let shape: Vec<f64> = (0..modes.shapes.nrows())
-            .map(|i| modes.shapes[(i, k)])
-            .collect();
+        let shape = modes.shapes.column(k);
         let mut weighted = vec![0.0; shape.len()];
         add_product(mass.as_ref(), &shape, 1.0, &mut weighted);
         weighted

@@ -17,9 +17,7 @@ pub fn build(
 ) -> Result<Backend, Error> {
     Ok(match linear {
         LinearChoice::Modal => {
-            // The dense M_ff serves the eigenproblem and the modal data: made once.
-            let mass = free.mass.to_dense();
-            let modes = generalized_eigen(&mass, &free.stiffness.to_dense())?;
+            let modes = generalized_eigen(&free.mass, &free.stiffness)?;
             let data = ModalData::new(
                 modes,
                 scene.solver.time_step,
@@ -28,7 +26,6 @@ pub fn build(
                     load: &free.load,
                     translation_mass: &free.translation_mass,
                     outputs: &free.outputs,
-                    mass,
                     damping: &free.damping,
                 },
             );

@@ -6,7 +6,7 @@
 use super::pass::{lane_dot, Recurrence};
 use super::reach::ReachMetric;
 use crate::contact::DenseDelassus;
-use crate::modes::Modes;
+use crate::modes::{ModeShapes, Modes};
 use crate::scene::DampingCoefficients;
 use crate::scheme::sums::{EnergyPieces, FieldSums};
 use crate::scheme::vectors::{dot, sum_of_squares};
@@ -84,8 +84,8 @@ pub(in crate::scheme) struct ModalData {
     pub(super) omega_squared: Vec<f64>,
     /// c_k = α + βω_k² + 2ζ_mω_k (1/s), the modal damping coefficients.
     pub(super) damping: Vec<f64>,
-    /// Φ (free dofs × modes), to map back to physical dofs.
-    pub(super) shapes: Mat<f64>,
+    /// Φ (free dofs × modes), to map between modal coordinates and free-dof values.
+    pub(super) shapes: ModeShapes,
     /// C = BΦ: the constrained rows of Φ (m × n).
     pub(super) c: Mat<f64>,
     /// Cᵀ (n × m): column i is row i of C, contiguous, for the values of single vertices.
@@ -105,8 +105,6 @@ pub(in crate::scheme) struct ModalData {
     pub(super) load: Vec<f64>,
     pub(super) translation_mass: Vec<f64>,
     pub(super) outputs: [Vec<f64>; 3],
-    /// M_ff and Φ for mapping full vectors to modal coordinates: q = Φᵀ M_ff w.
-    pub(super) mass_free: Mat<f64>,
 }
 
 /// The free-dof data of the plate that the modal backend projects onto its modes.
@@ -119,8 +117,6 @@ pub(in crate::scheme) struct FreeDofData<'a> {
     pub translation_mass: &'a [f64],
     /// The output functionals over the free dofs.
     pub outputs: &'a [Vec<f64>; 3],
-    /// M_ff, dense.
-    pub mass: Mat<f64>,
     /// The damping (Rayleigh and modal ratio).
     pub damping: &'a DampingCoefficients,
 }
@@ -131,7 +127,7 @@ impl ModalData {
         let n = modes.omega_squared.len();
         let m = free.constrained.len();
         let shapes = modes.shapes;
-        let c = Mat::from_fn(m, n, |i, k| shapes[(free.constrained[i], k)]);
+        let c = shapes.rows(free.constrained);
         let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c);
         let start = (!free.damping.is_zero()).then(|| {
             ModalSystem::new(
@@ -142,10 +138,7 @@ impl ModalData {
             )
         });
         // Φᵀv.
-        let project = |v: &[f64]| -> Vec<f64> {
-            let projected = shapes.transpose() * ColRef::from_slice(v);
-            projected.iter().copied().collect()
-        };
+        let project = |v: &[f64]| shapes.project(v);
         // ‖C_i‖ over the modes from `from` on.
         let row_norm = |i: usize, from: usize| c.row(i).subcols(from, n - from).norm_l2();
         let mut levels: Vec<usize> = SCREENING_LEVELS.iter().map(|&l| l.min(n)).collect();
@@ -182,7 +175,6 @@ impl ModalData {
             load,
             translation_mass,
             outputs,
-            mass_free: free.mass,
         }
     }
 
@@ -302,20 +294,12 @@ impl ModalData {
 
     /// w_f = Φ q.
     pub(in crate::scheme) fn to_free_dofs(&self, field: &[f64]) -> Vec<f64> {
-        let q = Col::from_fn(field.len(), |k| field[k]);
-        let w = &self.shapes * &q;
-        w.iter().copied().collect()
+        self.shapes.apply(field)
     }
 
     /// q = Φᵀ M_ff w.
     pub(in crate::scheme) fn field_of_free_dofs(&self, w: &[f64], field: &mut [f64]) {
-        let n = w.len();
-        let w = Col::from_fn(n, |i| w[i]);
-        let mw = &self.mass_free * &w;
-        let q = self.shapes.transpose() * &mw;
-        for (k, f) in field.iter_mut().enumerate() {
-            *f = q[k];
-        }
+        field.copy_from_slice(&self.shapes.coordinates(w));
     }
 
     pub(in crate::scheme) fn energy(

@@ -6,7 +6,7 @@ use super::data::{FreeDofData, ModalData, SCREENING_MODES};
 use super::screening::{high_mode_part, Screen, Screening};
 use super::{ModalBackend, Predicted, Valued};
 use crate::contact::{BoundState, PdasSettings};
-use crate::modes::Modes;
+use crate::modes::{ModeShapes, Modes};
 use crate::scene::DampingCoefficients;
 use crate::scheme::vectors::sum_of_squares;
 use faer::Mat;
@@ -27,7 +27,7 @@ fn synthetic_data() -> Arc<ModalData> {
     Arc::new(ModalData::new(
         Modes {
             omega_squared,
-            shapes,
+            shapes: ModeShapes::dense(shapes, Mat::identity(n, n)),
         },
         1e-3,
         FreeDofData {
@@ -35,7 +35,6 @@ fn synthetic_data() -> Arc<ModalData> {
             load: &zeros,
             translation_mass: &zeros,
             outputs: &outputs,
-            mass: Mat::identity(n, n),
             damping: &damping,
         },
     ))
