@@ -652,27 +652,13 @@ fn committed_plan() -> Plan {
     // Part `fine`: Argyris 20 × 14 at ζ = 1 % (its set-up, two dense eigendecompositions, about
     // 40 CPU s) from Δt = 1e-5 s; then Argyris 28 × 20 (5 257 free dofs, set-up by the band and
     // divide-and-conquer eigensolver, about 20 CPU s twice) on the whole ladder, 35 Hz first.
-    for forcing in [SCENES[0], SCENES[1]] {
-        lines.push(line(
-            "fine",
-            forcing,
-            0.01,
-            mesh(Argyris, 20, 14),
-            &LADDER[1..3],
-            250.0,
-            0,
-        ));
-    }
-    for forcing in [SCENES[0], SCENES[1]] {
-        lines.push(line(
-            "fine",
-            forcing,
-            0.01,
-            mesh(Argyris, 28, 20),
-            &LADDER[..3],
-            600.0,
-            0,
-        ));
+    for (m, ladder, cap) in [
+        (mesh(Argyris, 20, 14), &LADDER[1..3], 250.0),
+        (mesh(Argyris, 28, 20), &LADDER[..3], 600.0),
+    ] {
+        for forcing in [SCENES[0], SCENES[1]] {
+            lines.push(line("fine", forcing, 0.01, m, ladder, cap, 0));
+        }
     }
     Plan {
         name: "committed",
