@@ -498,8 +498,10 @@ def main():
     correlation = plot_correlation(out, float(meta.get("transient_s", 1.0)))
     cpu = sum(r["cpu_s"] for r in rows if r["quantity"] == "mean_energy_J")
     runs = sum(1 for r in rows if r["quantity"] == "mean_energy_J")
+    # The meta file's commit: one, or those of the processes that ran, separated by ';'.
+    commits = ", ".join(c.strip()[:12] for c in meta.get("commit", "?").split(";"))
     lines = [BEGIN, "",
-             f"Runs: {runs}, {cpu:.0f} CPU s in all (commit {meta.get('commit', '?')[:12]}); "
+             f"Runs: {runs}, {cpu:.0f} CPU s in all (commit {commits}); "
              f"left out for cost: {meta.get('left_out') or 'none'}.", "",
              "## Convergence, scene by scene", ""]
     lines += convergence_tables(table, scenes, zetas)
