@@ -12,6 +12,32 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::str::FromStr;
 
+/// The value after `flag` in `args`, if the flag is there.
+pub fn flag_value(args: &[String], flag: &str) -> Result<Option<String>, String> {
+    args.iter()
+        .position(|a| a == flag)
+        .map(|i| {
+            args.get(i + 1)
+                .cloned()
+                .ok_or(format!("{flag} needs a value"))
+        })
+        .transpose()
+}
+
+/// The element and cells of a mesh given as `ELEMENT:NXxNY` on a command line (`argyris:10x7`).
+pub fn parse_mesh_cells(item: &str) -> Result<(ElementKind, usize, usize), String> {
+    let usage = || format!("--mesh {item}: use ELEMENT:NXxNY, e.g. argyris:10x7");
+    let (element, cells) = item.split_once(':').ok_or_else(usage)?;
+    let element = match element {
+        "argyris" => ElementKind::Argyris,
+        "fvs" => ElementKind::Fvs,
+        _ => return Err(usage()),
+    };
+    let (nx, ny) = cells.split_once('x').ok_or_else(usage)?;
+    let cells = |n: &str| n.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(usage);
+    Ok((element, cells(nx)?, cells(ny)?))
+}
+
 /// The CSV name of an element.
 pub fn element_name(e: ElementKind) -> &'static str {
     match e {

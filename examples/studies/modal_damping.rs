@@ -703,20 +703,8 @@ fn quick_plan() -> Plan {
 fn parse_meshes(list: &str) -> Result<Vec<Mesh>, String> {
     list.split(',')
         .map(|item| {
-            let usage = || format!("--mesh {item}: use ELEMENT:NXxNY, e.g. argyris:10x7");
-            let (element, cells) = item.split_once(':').ok_or_else(usage)?;
-            let element = match element {
-                "argyris" => ElementKind::Argyris,
-                "fvs" => ElementKind::Fvs,
-                _ => return Err(usage()),
-            };
-            let (nx, ny) = cells.split_once('x').ok_or_else(usage)?;
-            let cells = |n: &str| n.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(usage);
-            Ok(Mesh {
-                element,
-                nx: cells(nx)?,
-                ny: cells(ny)?,
-            })
+            let (element, nx, ny) = common::parse_mesh_cells(item)?;
+            Ok(Mesh { element, nx, ny })
         })
         .collect()
 }
@@ -736,16 +724,7 @@ fn parse_numbers(flag: &str, list: &str) -> Result<Vec<f64>, String> {
 /// The plan of the command line: `--quick`, the committed plan, or a part of it; and whether it
 /// is a part.
 fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
-    let value_of = |flag: &str| {
-        args.iter()
-            .position(|a| a == flag)
-            .map(|i| {
-                args.get(i + 1)
-                    .cloned()
-                    .ok_or(format!("{flag} needs a value"))
-            })
-            .transpose()
-    };
+    let value_of = |flag: &str| common::flag_value(args, flag);
     let number = |flag: &str| -> Result<Option<f64>, String> {
         value_of(flag)?
             .map(|v| parse_numbers(flag, &v).map(|x| x[0]))

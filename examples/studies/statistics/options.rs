@@ -32,14 +32,7 @@ pub struct Options {
 
 /// The value after `flag` in `args`, if the flag is there.
 fn value_of(args: &[String], flag: &str) -> Result<Option<String>, String> {
-    args.iter()
-        .position(|a| a == flag)
-        .map(|i| {
-            args.get(i + 1)
-                .cloned()
-                .ok_or(format!("{flag} needs a value"))
-        })
-        .transpose()
+    crate::common::flag_value(args, flag)
 }
 
 fn list(value: Option<String>) -> Option<Vec<String>> {

@@ -565,14 +565,6 @@ fn extra_runs(part: Part, model: &dyn Fn(&str) -> Option<usize>) -> Vec<Run> {
 
 /// A mesh of `--mesh argyris:10x7`.
 pub fn parse_mesh(item: &str) -> Result<Mesh, String> {
-    let usage = || format!("--mesh {item}: use ELEMENT:NXxNY, e.g. argyris:10x7");
-    let (element, cells) = item.split_once(':').ok_or_else(usage)?;
-    let element = match element {
-        "argyris" => ElementKind::Argyris,
-        "fvs" => ElementKind::Fvs,
-        _ => return Err(usage()),
-    };
-    let (nx, ny) = cells.split_once('x').ok_or_else(usage)?;
-    let cells = |n: &str| n.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(usage);
-    Ok(Mesh::new(element, cells(nx)?, cells(ny)?))
+    let (element, nx, ny) = crate::common::parse_mesh_cells(item)?;
+    Ok(Mesh::new(element, nx, ny))
 }
