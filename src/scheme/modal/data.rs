@@ -25,18 +25,23 @@ pub(super) struct ModalSystem {
     /// (d_k − Δt c_k)/d_k, the weight of q_{n−1} after dividing by d_k: exactly 1 without damping.
     pub(super) lagged: Vec<f64>,
     /// Cᵀ scaled by D⁻¹ row-wise, stored as n × m: column i is D⁻¹ Cᵀ e_i = Φᵀ A⁻¹ Bᵀ e_i.
-    pub(super) c_t_scaled: Mat<f64>,
+    /// Not kept on a basis above [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT) modes: the
+    /// correction there scales the rows of C it has just read for the values
+    /// ([`ModalData::c_rows`]) by `inverse_d` instead of reading a second n × m matrix.
+    pub(super) c_t_scaled: Option<Mat<f64>>,
     /// W = C D⁻¹ Cᵀ (m × m), precomputed.
     pub(super) delassus: DenseDelassus,
 }
 
 impl ModalSystem {
-    /// The system with d_k = 1 + ½Δt²ω_k² + ½Δt c_k and the constrained rows `c` of Φ.
+    /// The system with d_k = 1 + ½Δt²ω_k² + ½Δt c_k and the constrained rows `c` of Φ, keeping
+    /// D⁻¹Cᵀ when `keep_scaled`.
     fn new(
         omega_squared: &[f64],
         damping: &DampingCoefficients,
         time_step: f64,
         c: &Mat<f64>,
+        keep_scaled: bool,
     ) -> ModalSystem {
         let (m, n) = (c.nrows(), c.ncols());
         let coefficient: Vec<f64> = omega_squared
@@ -66,7 +71,7 @@ impl ModalSystem {
                 .zip(&coefficient)
                 .map(|(&d, &ck)| (d - time_step * ck) / d)
                 .collect(),
-            c_t_scaled,
+            c_t_scaled: keep_scaled.then_some(c_t_scaled),
             delassus: DenseDelassus::new(m, delassus),
             d,
         }
@@ -135,13 +140,15 @@ impl ModalData {
         let m = free.constrained.len();
         let shapes = modes.shapes;
         let c = shapes.rows(free.constrained);
-        let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c);
+        let large = n > crate::modes::DENSE_LIMIT;
+        let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c, !large);
         let start = (!free.damping.is_zero()).then(|| {
             ModalSystem::new(
                 &modes.omega_squared,
                 &DampingCoefficients::default(),
                 time_step,
                 &c,
+                !large,
             )
         });
         // Φᵀv.
@@ -185,7 +192,7 @@ impl ModalData {
             translation_mass,
             outputs,
         };
-        if n > crate::modes::DENSE_LIMIT {
+        if large {
             data.set_stand_in_levels(&STAND_IN_LEVELS);
         }
         data
