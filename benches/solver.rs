@@ -63,46 +63,62 @@ fn main() {
         return;
     }
     if args.iter().any(|a| a == "--scale") {
-        // Cost against size: `forced-35hz`, Δt = 1e-4 s, 0.05 s, the backend `auto` picks.
-        println!("{}", CaseResult::CSV_HEADER);
-        for element in ["argyris", "fvs"] {
-            for (nx, ny) in [
-                (10, 7),
-                (14, 10),
-                (20, 10),
-                (30, 15),
-                (40, 20),
-                (60, 30),
-                (80, 40),
-                (100, 50),
-            ] {
-                run_child(&format!("sweep-{element}-{nx}x{ny}"), true);
-            }
-        }
+        scale_sweep();
         return;
     }
     if args.iter().any(|a| a == "--crossover") {
-        // Both backends on the meshes around MODAL_AUTO_LIMIT.
-        println!("{}", CaseResult::CSV_HEADER);
-        for (element, sizes) in [
-            (
-                "argyris",
-                &[(10, 7), (14, 10), (20, 10), (24, 12), (28, 14)][..],
-            ),
-            (
-                "fvs",
-                &[(20, 10), (30, 15), (36, 18), (40, 20), (50, 25)][..],
-            ),
-        ] {
-            for (nx, ny) in sizes {
-                for backend in ["modal", "sparse"] {
-                    run_child(&format!("sweep-{element}-{nx}x{ny}-{backend}"), true);
-                }
-            }
-        }
+        crossover_sweep();
         return;
     }
     let quick = args.iter().any(|a| a == "--quick");
+    bench_assembly();
+    bench_stepping(quick);
+    contact_at_scale(quick);
+}
+
+/// `--scale`: cost against size, `forced-35hz` at Δt = 1e-4 s for 0.05 s on meshes from 10 × 7
+/// to 100 × 50, with the backend `auto` picks, as CSV.
+fn scale_sweep() {
+    println!("{}", CaseResult::CSV_HEADER);
+    for element in ["argyris", "fvs"] {
+        for (nx, ny) in [
+            (10, 7),
+            (14, 10),
+            (20, 10),
+            (30, 15),
+            (40, 20),
+            (60, 30),
+            (80, 40),
+            (100, 50),
+        ] {
+            run_child(&format!("sweep-{element}-{nx}x{ny}"), true);
+        }
+    }
+}
+
+/// `--crossover`: both backends on the meshes around `MODAL_AUTO_LIMIT`, as CSV.
+fn crossover_sweep() {
+    println!("{}", CaseResult::CSV_HEADER);
+    for (element, sizes) in [
+        (
+            "argyris",
+            &[(10, 7), (14, 10), (20, 10), (24, 12), (28, 14)][..],
+        ),
+        (
+            "fvs",
+            &[(20, 10), (30, 15), (36, 18), (40, 20), (50, 25)][..],
+        ),
+    ] {
+        for (nx, ny) in sizes {
+            for backend in ["modal", "sparse"] {
+                run_child(&format!("sweep-{element}-{nx}x{ny}-{backend}"), true);
+            }
+        }
+    }
+}
+
+/// Section 1: assembly of M, K and the load (median of 5 runs).
+fn bench_assembly() {
     println!("== assembly (median of 5 runs)");
     for (element, nx, ny) in [
         (ElementKind::Argyris, 10, 7),
@@ -127,7 +143,11 @@ fn main() {
             1e3 * median(times)
         );
     }
+}
 
+/// Section 2: stepping the forced scene with the fast path and with clarabel, beside the bare
+/// bound check.
+fn bench_stepping(quick: bool) {
     println!("== stepping: forced scene at 35 Hz, Δt = 1e-4 s");
     let stop = if quick { 0.2 } else { 1.0 };
     for (element, nx, ny) in [(ElementKind::Argyris, 10, 7), (ElementKind::Fvs, 14, 10)] {
@@ -200,7 +220,10 @@ fn main() {
             reference / per_step
         );
     }
+}
 
+/// Section 3: the contact cases, each in a child process.
+fn contact_at_scale(quick: bool) {
     println!("== contact at scale (each case in a child process)");
     println!("{}", CaseResult::HEADER);
     let cases: &[&str] = if quick {

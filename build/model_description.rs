@@ -407,63 +407,16 @@ pub(crate) fn check_variable(
         (None, false) => None,
         (Some(s), true) => Some(parse_start(&who, kind, s)?),
     };
-    if let Some(unit) = &attrs.unit {
-        if kind != Kind::Real {
-            return Err(format!("{who}: only Real variables carry a unit"));
-        }
-        if !units.contains(unit) {
-            return Err(format!("{who}: unit {unit:?} is not in <UnitDefinitions>"));
-        }
-    } else if kind == Kind::Real && causality != "independent" {
-        return Err(format!(
-            "{who}: every Real variable must declare its unit (SI)"
-        ));
-    }
+    check_unit(&who, kind, &causality, attrs.unit.as_deref(), units)?;
     if kind == Kind::Enumeration {
-        let name = attrs
-            .declared_type
-            .as_ref()
-            .ok_or_else(|| format!("{who}: an Enumeration needs a declaredType"))?;
-        let items = enums
-            .get(name)
-            .ok_or_else(|| format!("{who}: declaredType {name:?} is not an enumeration type"))?;
-        if let Some(Start::Integer(s)) = start {
-            if !items.contains(&s) {
-                return Err(format!("{who}: start {s} is not an item of {name:?}"));
-            }
-        }
+        check_enumeration(&who, attrs.declared_type.as_deref(), start.as_ref(), enums)?;
     }
-    let bound = |b: &Option<String>, what: &str| -> Result<Option<f64>, String> {
-        b.as_ref()
-            .map(|b| {
-                b.trim()
-                    .parse::<f64>()
-                    .ok()
-                    .filter(|x| !x.is_nan())
-                    .ok_or_else(|| format!("{who}: {what} {b:?} is not a number"))
-            })
-            .transpose()
-    };
-    let (min, max) = (bound(&attrs.min, "min")?, bound(&attrs.max, "max")?);
-    if let (Some(lo), Some(hi)) = (min, max) {
-        if lo > hi {
-            return Err(format!("{who}: min {lo} > max {hi}"));
-        }
-    }
-    let start_number = match &start {
-        Some(Start::Real(x)) => Some(*x),
-        Some(Start::Integer(i)) => Some(*i as f64),
-        _ => None,
-    };
-    if let Some(x) = start_number {
-        if min.is_some_and(|lo| x < lo) || max.is_some_and(|hi| x > hi) {
-            return Err(format!(
-                "{who}: start {x} lies outside [min, max] = [{}, {}]",
-                min.map_or("-inf".into(), |m| m.to_string()),
-                max.map_or("inf".into(), |m| m.to_string())
-            ));
-        }
-    }
+    let (min, max) = check_bounds(
+        &who,
+        attrs.min.as_deref(),
+        attrs.max.as_deref(),
+        start.as_ref(),
+    )?;
     Ok(Variable {
         name: v.name,
         value_reference: v.value_reference,
@@ -479,6 +432,87 @@ pub(crate) fn check_variable(
         dimensions: v.dimensions,
         intermediate_update: v.intermediate_update,
     })
+}
+
+/// A Real variable declares a unit of `<UnitDefinitions>` (the independent variable may omit
+/// it); other kinds declare none.
+fn check_unit(
+    who: &str,
+    kind: Kind,
+    causality: &str,
+    unit: Option<&str>,
+    units: &BTreeSet<String>,
+) -> Result<(), String> {
+    match unit {
+        Some(_) if kind != Kind::Real => Err(format!("{who}: only Real variables carry a unit")),
+        Some(unit) if !units.contains(unit) => {
+            Err(format!("{who}: unit {unit:?} is not in <UnitDefinitions>"))
+        }
+        None if kind == Kind::Real && causality != "independent" => Err(format!(
+            "{who}: every Real variable must declare its unit (SI)"
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// An Enumeration names a declared enumeration type, and its start is one of its items.
+fn check_enumeration(
+    who: &str,
+    declared_type: Option<&str>,
+    start: Option<&Start>,
+    enums: &BTreeMap<String, Vec<i64>>,
+) -> Result<(), String> {
+    let name =
+        declared_type.ok_or_else(|| format!("{who}: an Enumeration needs a declaredType"))?;
+    let items = enums
+        .get(name)
+        .ok_or_else(|| format!("{who}: declaredType {name:?} is not an enumeration type"))?;
+    if let Some(Start::Integer(s)) = start {
+        if !items.contains(s) {
+            return Err(format!("{who}: start {s} is not an item of {name:?}"));
+        }
+    }
+    Ok(())
+}
+
+/// min and max as numbers, min ≤ max, and a numeric start within them.
+fn check_bounds(
+    who: &str,
+    min: Option<&str>,
+    max: Option<&str>,
+    start: Option<&Start>,
+) -> Result<(Option<f64>, Option<f64>), String> {
+    let bound = |b: Option<&str>, what: &str| -> Result<Option<f64>, String> {
+        b.map(|b| {
+            b.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| !x.is_nan())
+                .ok_or_else(|| format!("{who}: {what} {b:?} is not a number"))
+        })
+        .transpose()
+    };
+    let (min, max) = (bound(min, "min")?, bound(max, "max")?);
+    if let (Some(lo), Some(hi)) = (min, max) {
+        if lo > hi {
+            return Err(format!("{who}: min {lo} > max {hi}"));
+        }
+    }
+    let start_number = match start {
+        Some(Start::Real(x)) => Some(*x),
+        Some(Start::Integer(i)) => Some(*i as f64),
+        _ => None,
+    };
+    if let Some(x) = start_number {
+        if min.is_some_and(|lo| x < lo) || max.is_some_and(|hi| x > hi) {
+            return Err(format!(
+                "{who}: start {x} lies outside [min, max] = [{}, {}]",
+                min.map_or("-inf".into(), |m| m.to_string()),
+                max.map_or("inf".into(), |m| m.to_string())
+            ));
+        }
+    }
+    Ok((min, max))
 }
 
 /// The unit names of `<UnitDefinitions>`.

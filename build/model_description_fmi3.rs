@@ -167,71 +167,92 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
     let mut refs = BTreeMap::new();
     let mut variables = Vec::new();
     for typed in root.model_variables.variables {
-        let (kind, e) = match typed {
-            TypedVariable::Float64(e) => (Kind::Real, e),
-            TypedVariable::Int32(e) => (Kind::Integer, e),
-            TypedVariable::UInt64(e) => (Kind::UInt64, e),
-            TypedVariable::Boolean(e) => (Kind::Boolean, e),
-        };
-        let who = format!(
-            "variable {:?} (valueReference {})",
-            e.name, e.value_reference
-        );
-        let dimensions = e
-            .dimensions
-            .iter()
-            .map(|d| match (d.start, d.value_reference) {
-                (Some(n), None) if n > 0 => Ok(Dimension::Fixed(n)),
-                (None, Some(r)) => Ok(Dimension::Variable(r)),
-                _ => Err(format!(
-                    "{who}: a <Dimension> needs either start > 0 or valueReference"
-                )),
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let raw = RawVariable {
-            name: e.name,
-            value_reference: e.value_reference,
-            description: e.description,
-            kind,
-            causality: e.causality,
-            variability: e.variability,
-            initial: e.initial,
-            attrs: TypeAttrs {
-                start: e.start,
-                min: e.min,
-                max: e.max,
-                unit: e.unit,
-                declared_type: None,
-            },
-            dimensions,
-            intermediate_update: e.intermediate_update.unwrap_or(false),
-        };
-        let v = check_variable(
-            raw,
-            &FMI3_RULES,
-            &units,
-            &BTreeMap::new(),
-            &mut names,
-            &mut refs,
-        )?;
-        if v.intermediate_update
-            && !(v.variability == "continuous"
-                && matches!(v.causality.as_str(), "input" | "output"))
-        {
-            return Err(format!(
-                "{who}: only continuous inputs and outputs may have intermediateUpdate = true"
-            ));
-        }
-        if v.causality == "structuralParameter" && !v.dimensions.is_empty() {
-            return Err(format!(
-                "{who}: a structural parameter must not be an array"
-            ));
-        }
-        variables.push(v);
+        variables.push(check_fmi3_variable(typed, &units, &mut names, &mut refs)?);
     }
     check_independent(&variables)?;
     check_dimensions(&variables)?;
     check_model_structure(&variables, &root.model_structure)?;
+    check_fixed_internal_step(&cs, &variables)?;
+    Ok(Model {
+        fmi_version: root.fmi_version,
+        model_name: root.model_name,
+        model_identifier: cs.model_identifier.clone(),
+        token,
+        log_categories,
+        default_start_time: start_time,
+        default_stop_time: stop_time,
+        default_step_size: step_size,
+        co_simulation: cs,
+        variables,
+    })
+}
+
+/// One `<Float64>`, `<Int32>`, `<UInt64>` or `<Boolean>` element: the checks shared with FMI 2.0
+/// ([`check_variable`]), its `<Dimension>`s, and the FMI 3.0 rules on intermediateUpdate and
+/// structural parameters.
+fn check_fmi3_variable(
+    typed: TypedVariable,
+    units: &BTreeSet<String>,
+    names: &mut BTreeSet<String>,
+    refs: &mut BTreeMap<u32, String>,
+) -> Result<Variable, String> {
+    let (kind, e) = match typed {
+        TypedVariable::Float64(e) => (Kind::Real, e),
+        TypedVariable::Int32(e) => (Kind::Integer, e),
+        TypedVariable::UInt64(e) => (Kind::UInt64, e),
+        TypedVariable::Boolean(e) => (Kind::Boolean, e),
+    };
+    let who = format!(
+        "variable {:?} (valueReference {})",
+        e.name, e.value_reference
+    );
+    let dimensions = e
+        .dimensions
+        .iter()
+        .map(|d| match (d.start, d.value_reference) {
+            (Some(n), None) if n > 0 => Ok(Dimension::Fixed(n)),
+            (None, Some(r)) => Ok(Dimension::Variable(r)),
+            _ => Err(format!(
+                "{who}: a <Dimension> needs either start > 0 or valueReference"
+            )),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let raw = RawVariable {
+        name: e.name,
+        value_reference: e.value_reference,
+        description: e.description,
+        kind,
+        causality: e.causality,
+        variability: e.variability,
+        initial: e.initial,
+        attrs: TypeAttrs {
+            start: e.start,
+            min: e.min,
+            max: e.max,
+            unit: e.unit,
+            declared_type: None,
+        },
+        dimensions,
+        intermediate_update: e.intermediate_update.unwrap_or(false),
+    };
+    let v = check_variable(raw, &FMI3_RULES, units, &BTreeMap::new(), names, refs)?;
+    if v.intermediate_update
+        && !(v.variability == "continuous" && matches!(v.causality.as_str(), "input" | "output"))
+    {
+        return Err(format!(
+            "{who}: only continuous inputs and outputs may have intermediateUpdate = true"
+        ));
+    }
+    if v.causality == "structuralParameter" && !v.dimensions.is_empty() {
+        return Err(format!(
+            "{who}: a structural parameter must not be an array"
+        ));
+    }
+    Ok(v)
+}
+
+/// A declared fixedInternalStepSize is the start of the time-step parameter.
+fn check_fixed_internal_step(cs: &CoSimulation, variables: &[Variable]) -> Result<(), String> {
     if let Some(step) = &cs.fixed_internal_step_size {
         let declared: f64 = step
             .trim()
@@ -246,22 +267,11 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
             });
         if default_step != Some(declared) {
             return Err(format!(
-                "fixedInternalStepSize = {declared} must be the start of {TIME_STEP} ({default_step:?}), the internal step the FMU takes unless it is set"
-            ));
+            "fixedInternalStepSize = {declared} must be the start of {TIME_STEP} ({default_step:?}), the internal step the FMU takes unless it is set"
+        ));
         }
     }
-    Ok(Model {
-        fmi_version: root.fmi_version,
-        model_name: root.model_name,
-        model_identifier: cs.model_identifier.clone(),
-        token,
-        log_categories,
-        default_start_time: start_time,
-        default_stop_time: stop_time,
-        default_step_size: step_size,
-        co_simulation: cs,
-        variables,
-    })
+    Ok(())
 }
 
 /// The capability flags this FMU's FMI 3.0 layer relies on: no Event Mode (impacts are resolved
@@ -370,6 +380,39 @@ fn check_model_structure(variables: &[Variable], structure: &ModelStructure) -> 
 /// cannot express: the independent variable, structural parameters and arrays (their value
 /// references are their own, since each description's are unique).
 pub fn check_same_variables(fmi2: &Model, fmi3: &Model) -> Result<(), String> {
+    check_same_header(fmi2, fmi3)?;
+    check_same_capabilities(&fmi2.co_simulation, &fmi3.co_simulation)?;
+    for v2 in &fmi2.variables {
+        let who = format!("variable {:?}", v2.name);
+        let v3 = fmi3.by_name(&v2.name).ok_or_else(|| {
+            format!("{who} of the FMI 2.0 description is missing from the FMI 3.0 one")
+        })?;
+        check_same_fields(&who, v2, v3)?;
+        if !v3.dimensions.is_empty() {
+            return Err(format!(
+                "{who} is a scalar in FMI 2.0 but an array in FMI 3.0"
+            ));
+        }
+    }
+    for v3 in &fmi3.variables {
+        if fmi2.by_name(&v3.name).is_some() {
+            continue;
+        }
+        let who = format!("variable {:?}", v3.name);
+        if v3.causality != "independent"
+            && v3.causality != "structuralParameter"
+            && v3.dimensions.is_empty()
+        {
+            return Err(format!(
+                "{who} is only in the FMI 3.0 description: only the independent variable, structural parameters and arrays may be (FMI 2.0 cannot express them)"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The same model name, model identifier, log categories and default experiment.
+fn check_same_header(fmi2: &Model, fmi3: &Model) -> Result<(), String> {
     let pairs = [
         ("modelName", &fmi2.model_name, &fmi3.model_name),
         (
@@ -405,7 +448,11 @@ pub fn check_same_variables(fmi2: &Model, fmi3: &Model) -> Result<(), String> {
             experiment(fmi3)
         ));
     }
-    let (c2, c3) = (&fmi2.co_simulation, &fmi3.co_simulation);
+    Ok(())
+}
+
+/// The same Co-Simulation capabilities, under their names in each version.
+fn check_same_capabilities(c2: &CoSimulation, c3: &CoSimulation) -> Result<(), String> {
     let capabilities = [
         (
             "canHandleVariableCommunicationStepSize",
@@ -441,71 +488,52 @@ pub fn check_same_variables(fmi2: &Model, fmi3: &Model) -> Result<(), String> {
             c2.max_output_derivative_order, c3.max_output_derivative_order
         ));
     }
-    for v2 in &fmi2.variables {
-        let who = format!("variable {:?}", v2.name);
-        let v3 = fmi3.by_name(&v2.name).ok_or_else(|| {
-            format!("{who} of the FMI 2.0 description is missing from the FMI 3.0 one")
-        })?;
-        let initial2 = match (&v2.initial, v2.causality.as_str()) {
-            (None, "input") => Some("exact".to_string()),
-            (initial, _) => initial.clone(),
-        };
-        let fields: [(&str, String, String); 10] = [
-            (
-                "valueReference",
-                v2.value_reference.to_string(),
-                v3.value_reference.to_string(),
-            ),
-            ("type", format!("{:?}", v2.kind), format!("{:?}", v3.kind)),
-            ("causality", v2.causality.clone(), v3.causality.clone()),
-            (
-                "variability",
-                v2.variability.clone(),
-                v3.variability.clone(),
-            ),
-            (
-                "initial",
-                format!("{initial2:?}"),
-                format!("{:?}", v3.initial),
-            ),
-            (
-                "start",
-                format!("{:?}", v2.start),
-                format!("{:?}", v3.start),
-            ),
-            ("min", format!("{:?}", v2.min), format!("{:?}", v3.min)),
-            ("max", format!("{:?}", v2.max), format!("{:?}", v3.max)),
-            ("unit", format!("{:?}", v2.unit), format!("{:?}", v3.unit)),
-            (
-                "description",
-                format!("{:?}", v2.description),
-                format!("{:?}", v3.description),
-            ),
-        ];
-        for (what, a, b) in fields {
-            if a != b {
-                return Err(format!(
-                    "{who}: {what} is {a} in the FMI 2.0 description but {b} in the FMI 3.0 one"
-                ));
-            }
-        }
-        if !v3.dimensions.is_empty() {
+    Ok(())
+}
+
+/// The same attributes of a variable in both descriptions (an FMI 2.0 input without initial
+/// has the FMI 3.0 default, exact).
+fn check_same_fields(who: &str, v2: &Variable, v3: &Variable) -> Result<(), String> {
+    let initial2 = match (&v2.initial, v2.causality.as_str()) {
+        (None, "input") => Some("exact".to_string()),
+        (initial, _) => initial.clone(),
+    };
+    let fields: [(&str, String, String); 10] = [
+        (
+            "valueReference",
+            v2.value_reference.to_string(),
+            v3.value_reference.to_string(),
+        ),
+        ("type", format!("{:?}", v2.kind), format!("{:?}", v3.kind)),
+        ("causality", v2.causality.clone(), v3.causality.clone()),
+        (
+            "variability",
+            v2.variability.clone(),
+            v3.variability.clone(),
+        ),
+        (
+            "initial",
+            format!("{initial2:?}"),
+            format!("{:?}", v3.initial),
+        ),
+        (
+            "start",
+            format!("{:?}", v2.start),
+            format!("{:?}", v3.start),
+        ),
+        ("min", format!("{:?}", v2.min), format!("{:?}", v3.min)),
+        ("max", format!("{:?}", v2.max), format!("{:?}", v3.max)),
+        ("unit", format!("{:?}", v2.unit), format!("{:?}", v3.unit)),
+        (
+            "description",
+            format!("{:?}", v2.description),
+            format!("{:?}", v3.description),
+        ),
+    ];
+    for (what, a, b) in fields {
+        if a != b {
             return Err(format!(
-                "{who} is a scalar in FMI 2.0 but an array in FMI 3.0"
-            ));
-        }
-    }
-    for v3 in &fmi3.variables {
-        if fmi2.by_name(&v3.name).is_some() {
-            continue;
-        }
-        let who = format!("variable {:?}", v3.name);
-        if v3.causality != "independent"
-            && v3.causality != "structuralParameter"
-            && v3.dimensions.is_empty()
-        {
-            return Err(format!(
-                "{who} is only in the FMI 3.0 description: only the independent variable, structural parameters and arrays may be (FMI 2.0 cannot express them)"
+                "{who}: {what} is {a} in the FMI 2.0 description but {b} in the FMI 3.0 one"
             ));
         }
     }

@@ -82,40 +82,28 @@ impl<'a> Valued<'a> {
         }
         unconstrained.copy_from_slice(next);
         let multipliers = active_set.lambda();
-        let column = |i: usize| {
-            system
-                .c_t_scaled
-                .col(i)
+        let active = states
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.is_active())
+            .map(|(i, _)| i);
+        let contiguous = |column: faer::ColRef<'a, f64>| {
+            column
                 .try_as_col_major()
                 .expect("owned matrices are column-major")
                 .as_slice()
         };
-        let mut active = states
-            .iter()
-            .enumerate()
-            .filter(|(_, s)| s.is_active())
-            .map(|(i, _)| (multipliers[i], column(i)));
-        // Four active columns per pass over q: each q_k receives the same additions in the
-        // same order as one pass per column would give it (Rust contracts no a + b·c into
-        // a fused multiply-add), so q_{n+1} is bit-identical, with a quarter of the loads
-        // and stores of q.
-        loop {
-            match [active.next(), active.next(), active.next(), active.next()] {
-                [Some((m0, c0)), Some((m1, c1)), Some((m2, c2)), Some((m3, c3))] => {
-                    let columns = c0.iter().zip(c1).zip(c2.iter().zip(c3));
-                    for (q, ((&a, &b), (&c, &d))) in next.iter_mut().zip(columns) {
-                        *q = *q + m0 * a + m1 * b + m2 * c + m3 * d;
-                    }
-                }
-                rest => {
-                    for (m, c) in rest.into_iter().flatten() {
-                        for (q, &c) in next.iter_mut().zip(c) {
-                            *q += m * c;
-                        }
-                    }
-                    break;
-                }
-            }
+        match &system.c_t_scaled {
+            Some(scaled) => add_columns(
+                next,
+                active.map(|i| (multipliers[i], contiguous(scaled.col(i)))),
+                None,
+            ),
+            None => add_columns(
+                next,
+                active.map(|i| (multipliers[i], contiguous(step.data.c_rows.col(i)))),
+                Some(&system.inverse_d),
+            ),
         }
         (report, Some(Corrected { step, stand_ins }))
     }
@@ -149,5 +137,52 @@ impl<'a> Corrected<'a> {
         }
         let scaled = faer::ColRef::from_slice(unconstrained).transpose();
         scaled * faer::ColRef::from_slice(next) - scaled * faer::ColRef::from_slice(previous)
+    }
+}
+
+/// q += Σ μ_i s ⊙ c_i over the pairs (μ_i, c_i), s = `scale` (1 when `None`), four columns per
+/// pass over q: each q_k receives the same additions in the same order as one pass per column
+/// would give it (Rust contracts no a + b·c into a fused multiply-add), so without a scale q is
+/// bit-identical to it, with a quarter of the loads and stores of q.
+fn add_columns<'c>(
+    q: &mut [f64],
+    mut columns: impl Iterator<Item = (f64, &'c [f64])>,
+    scale: Option<&[f64]>,
+) {
+    loop {
+        match [
+            columns.next(),
+            columns.next(),
+            columns.next(),
+            columns.next(),
+        ] {
+            [Some((m0, c0)), Some((m1, c1)), Some((m2, c2)), Some((m3, c3))] => {
+                let columns = c0.iter().zip(c1).zip(c2.iter().zip(c3));
+                match scale {
+                    None => {
+                        for (q, ((&a, &b), (&c, &d))) in q.iter_mut().zip(columns) {
+                            *q = *q + m0 * a + m1 * b + m2 * c + m3 * d;
+                        }
+                    }
+                    Some(s) => {
+                        for ((q, &s), ((&a, &b), (&c, &d))) in q.iter_mut().zip(s).zip(columns) {
+                            *q += s * (m0 * a + m1 * b + m2 * c + m3 * d);
+                        }
+                    }
+                }
+            }
+            rest => {
+                for (m, c) in rest.into_iter().flatten() {
+                    match scale {
+                        None => q.iter_mut().zip(c).for_each(|(q, &c)| *q += m * c),
+                        Some(s) => q
+                            .iter_mut()
+                            .zip(c.iter().zip(s))
+                            .for_each(|(q, (&c, &s))| *q += s * (m * c)),
+                    }
+                }
+                return;
+            }
+        }
     }
 }

@@ -25,18 +25,23 @@ pub(super) struct ModalSystem {
     /// (d_k − Δt c_k)/d_k, the weight of q_{n−1} after dividing by d_k: exactly 1 without damping.
     pub(super) lagged: Vec<f64>,
     /// Cᵀ scaled by D⁻¹ row-wise, stored as n × m: column i is D⁻¹ Cᵀ e_i = Φᵀ A⁻¹ Bᵀ e_i.
-    pub(super) c_t_scaled: Mat<f64>,
+    /// Not kept on a basis above [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT) modes: the
+    /// correction there scales the rows of C it has just read for the values
+    /// ([`ModalData::c_rows`]) by `inverse_d` instead of reading a second n × m matrix.
+    pub(super) c_t_scaled: Option<Mat<f64>>,
     /// W = C D⁻¹ Cᵀ (m × m), precomputed.
     pub(super) delassus: DenseDelassus,
 }
 
 impl ModalSystem {
-    /// The system with d_k = 1 + ½Δt²ω_k² + ½Δt c_k and the constrained rows `c` of Φ.
+    /// The system with d_k = 1 + ½Δt²ω_k² + ½Δt c_k and the constrained rows `c` of Φ, keeping
+    /// D⁻¹Cᵀ when `keep_scaled`.
     fn new(
         omega_squared: &[f64],
         damping: &DampingCoefficients,
         time_step: f64,
         c: &Mat<f64>,
+        keep_scaled: bool,
     ) -> ModalSystem {
         let (m, n) = (c.nrows(), c.ncols());
         let coefficient: Vec<f64> = omega_squared
@@ -66,7 +71,7 @@ impl ModalSystem {
                 .zip(&coefficient)
                 .map(|(&d, &ck)| (d - time_step * ck) / d)
                 .collect(),
-            c_t_scaled,
+            c_t_scaled: keep_scaled.then_some(c_t_scaled),
             delassus: DenseDelassus::new(m, delassus),
             d,
         }
@@ -96,6 +101,13 @@ pub(in crate::scheme) struct ModalData {
     /// The mode counts of the screening levels that this basis has: [`SCREENING_LEVELS`] cut
     /// at n.
     pub(super) levels: Vec<usize>,
+    /// The mode counts of the stand-in levels that this basis has: none up to
+    /// [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT) modes, whose values keep their bits, otherwise
+    /// [`STAND_IN_LEVELS`] past the last screening level and short of n.
+    pub(super) stand_in_levels: Vec<usize>,
+    /// ‖(C_H)_i‖₂ per stand-in level and constrained vertex, H being the modes from the level's
+    /// mode count on.
+    pub(super) stand_in_row_norms: Vec<Vec<f64>>,
     /// ‖C_i‖₂ per constrained vertex: scales the round-off margin of the screening.
     pub(super) row_norms: Vec<f64>,
     /// The norm in which the reach of a proof is measured.
@@ -128,13 +140,15 @@ impl ModalData {
         let m = free.constrained.len();
         let shapes = modes.shapes;
         let c = shapes.rows(free.constrained);
-        let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c);
+        let large = n > crate::modes::DENSE_LIMIT;
+        let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c, !large);
         let start = (!free.damping.is_zero()).then(|| {
             ModalSystem::new(
                 &modes.omega_squared,
                 &DampingCoefficients::default(),
                 time_step,
                 &c,
+                !large,
             )
         });
         // Φᵀv.
@@ -156,7 +170,7 @@ impl ModalData {
         let load = project(free.load);
         let translation_mass = project(free.translation_mass);
         let outputs = free.outputs.each_ref().map(|row| project(row));
-        ModalData {
+        let mut data = ModalData {
             step,
             start,
             damping: modes
@@ -170,12 +184,39 @@ impl ModalData {
             c,
             high_row_norms,
             levels,
+            stand_in_levels: Vec::new(),
+            stand_in_row_norms: Vec::new(),
             reach_metric,
             row_norms,
             load,
             translation_mass,
             outputs,
+        };
+        if large {
+            data.set_stand_in_levels(&STAND_IN_LEVELS);
         }
+        data
+    }
+
+    /// Sets the stand-in levels to the mode counts of `levels` past the last screening level and
+    /// short of n (increasing), with their remainder weights ‖(C_H)_i‖₂.
+    pub(super) fn set_stand_in_levels(&mut self, levels: &[usize]) {
+        let (m, n) = (self.c.nrows(), self.c.ncols());
+        let last_level = self.levels[self.levels.len() - 1];
+        self.stand_in_levels = levels
+            .iter()
+            .copied()
+            .filter(|&l| l > last_level && l < n)
+            .collect();
+        self.stand_in_row_norms = self
+            .stand_in_levels
+            .iter()
+            .map(|&from| {
+                (0..m)
+                    .map(|i| self.c.row(i).subcols(from, n - from).norm_l2())
+                    .collect()
+            })
+            .collect();
     }
 
     /// The system of the start step or of the others.
@@ -211,6 +252,14 @@ pub(super) const SCREENING_LEVELS: [usize; 4] = [4, 8, 16, 32];
 /// the high modes' share of the motion count at full weight at every vertex), 23 402 for p = 2
 /// (the energy norm, which lets the high modes' tiny amplitudes count at ω_max), 7 945 for p = 1.
 const REACH_WEIGHT_POWER: f64 = 1.0;
+
+/// The numbers of low modes over which a large basis sums, level by level, the value of a
+/// vertex that the screening's last level leaves unproven, for its stand-in
+/// ([`Screening::values`](super::screening::Screening::values)). On Argyris 28 × 20 (5 257 modes,
+/// 588 vertices) the forced 35 Hz scene's steps with a QP left ~200 vertices to exact values:
+/// 128 modes prove about half of those inside, 512 a tenth more, 1 024 and 2 048 almost none more
+/// (the rest lie past a bound in the prediction).
+pub(super) const STAND_IN_LEVELS: [usize; 2] = [128, 512];
 
 /// Number of low modes of the last screening level.
 pub(super) const SCREENING_MODES: usize = SCREENING_LEVELS[SCREENING_LEVELS.len() - 1];

@@ -27,6 +27,14 @@
 //! steps do no bound check at all. The contact-free step itself is one fused pass over the modes
 //! (`pass.rs`).
 //!
+//! A prediction the screening cannot prove hands the contact solve its values: exact ones near
+//! an obstacle, and stand-ins (a partial sum with its remainder bound as slack) at vertices some
+//! level proves inside; the solve evaluates a stand-in in full only when its answer reaches it.
+//! On a basis larger than [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT), whose rows of C are long
+//! (5 257 modes on Argyris 28 × 20), every vertex gets a stand-in, summed over up to 512 modes
+//! ([`STAND_IN_LEVELS`](data::STAND_IN_LEVELS)): a step with a QP then reads the full rows of the
+//! vertices in contact only.
+//!
 //! Files: `data.rs` holds the precomputed [`ModalData`] and its read-only field maps,
 //! `screening.rs` the screening and the values of a prediction it cannot prove inside,
 //! `correction.rs` the contact solve and the correction of the prediction, `pass.rs` and

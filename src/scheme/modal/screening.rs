@@ -151,12 +151,17 @@ impl Screening {
             .any(|(i, &y)| margin(i, y) < 0.0)
     }
 
-    /// After a failed screening of `next` (whose ‖q‖² is `norm_squared`): the vertices that its
-    /// last level proves inside `[lower, upper]` get their low-mode part ŷ_i as a stand-in
-    /// (inside the bounds by more than the slack r_i that bounds |y*_i − ŷ_i|), the others their
-    /// exact value ŷ_i + (C_H q_H)_i, one row each: an m × n product becomes one over the
-    /// vertices near an obstacle only. Writes the values into `out` and returns whether there is
-    /// a stand-in.
+    /// After a failed screening of `next` (whose ‖q‖² is `norm_squared`): the values handed to
+    /// the contact solve, into `out`; returns whether there is a stand-in. A vertex that the
+    /// screening's last level proves inside `[lower, upper]` gets its low-mode part ŷ_i as a
+    /// stand-in (inside the bounds by more than the slack r_i that bounds |y*_i − ŷ_i|). On a
+    /// basis of up to [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT) modes every other vertex gets its exact value
+    /// ŷ_i + (C_H q_H)_i: an m × n product becomes one over the vertices near an obstacle only.
+    /// On a larger basis, whose rows of C are long, the others are summed over the modes of the
+    /// stand-in levels ([`ModalData::stand_in_levels`]) until one proves them inside, and every
+    /// vertex gets a stand-in: the deepest level's partial sum with its remainder bound as
+    /// slack, even past a bound. The contact solve then pays a row of C only for the vertices
+    /// its answer reaches ([`Screening::reached_stand_ins`]), at the price of solving again.
     pub(super) fn values(
         &mut self,
         data: &ModalData,
@@ -166,16 +171,39 @@ impl Screening {
         out: &mut [f64],
     ) -> bool {
         let last = data.levels.len() - 1;
-        let (high, total) = (self.high_squared[last].sqrt(), norm_squared.sqrt());
+        let total = norm_squared.sqrt();
+        // ‖q_H‖ past the last screening level and past each stand-in level.
+        let mut high = Vec::with_capacity(1 + data.stand_in_levels.len());
+        high.push(self.high_squared[last].sqrt());
+        high.extend(
+            data.stand_in_levels
+                .iter()
+                .map(|&from| sum_of_squares(&next[from..]).sqrt()),
+        );
+        let deep = !data.stand_in_levels.is_empty();
         let mut stand_ins = false;
         for (i, value) in out.iter_mut().enumerate() {
+            let round_off = 1e-12 * data.row_norms[i] * total;
+            let inside = |y: f64, slack: f64| y - slack >= lower && y + slack <= upper;
             let low = self.low_values[i];
-            let slack = data.high_row_norms[last][i] * high + 1e-12 * data.row_norms[i] * total;
-            let inside = low - slack >= lower && low + slack <= upper;
-            *value = low;
-            self.stand_in[i] = inside;
+            let (mut stand_in, mut slack) =
+                (low, data.high_row_norms[last][i] * high[0] + round_off);
+            let mut proven = inside(stand_in, slack);
+            let mut done = data.levels[last];
+            for (level, &modes) in data.stand_in_levels.iter().enumerate() {
+                if proven {
+                    break;
+                }
+                stand_in += partial_row_sum(data, i, done..modes, next);
+                done = modes;
+                slack = data.stand_in_row_norms[level][i] * high[level + 1] + round_off;
+                proven = inside(stand_in, slack);
+            }
+            let kept = proven || deep;
+            *value = if kept { stand_in } else { low };
+            self.stand_in[i] = kept;
             self.slack[i] = slack;
-            stand_ins |= inside;
+            stand_ins |= kept;
         }
         // The exact values, one product per run of consecutive vertices that need one: near
         // contact most vertices do, and one product per vertex spent much of its time on the
@@ -308,6 +336,13 @@ fn screening_margin(
         let slack = weights[i] * high + 1e-12 * data.row_norms[i] * total;
         (y - slack - lower).min(upper - y - slack)
     }
+}
+
+/// Σ_{k ∈ modes} C_ik q_k: vertex i's value over a contiguous range of modes.
+fn partial_row_sum(data: &ModalData, i: usize, modes: std::ops::Range<usize>, q: &[f64]) -> f64 {
+    let count = modes.len();
+    data.c_rows.col(i).subrows(modes.start, count).transpose()
+        * ColRef::from_slice(&q[modes.start..modes.end])
 }
 
 /// (C_H q_H)_i: vertex i's value over the modes past the last screening level.

@@ -157,6 +157,38 @@ fn near_contact_shortcuts_are_bit_identical() {
 #[test]
 fn stand_in_values_give_the_exact_solution() {
     let data = synthetic_data();
+    let [solved, with_stand_ins, repeated] = compare_stand_ins_with_exact(data.clone(), data);
+    // The cases exercise every path (1518, 1236 and 494 when written).
+    assert!(solved > 500, "{solved} contact solves");
+    assert!(
+        with_stand_ins > 500,
+        "{with_stand_ins} solves with stand-ins"
+    );
+    assert!(repeated > 100, "{repeated} solves that reached a stand-in");
+}
+
+/// As [`stand_in_values_give_the_exact_solution`] with the layout of a large basis: stand-in
+/// levels (here after 40 and 50 of the 60 modes), where every vertex the screening leaves gets a
+/// stand-in, even past a bound, and the solve evaluates the ones it reaches; and no D⁻¹Cᵀ, the
+/// correction scaling rows of C instead, against the reference solve with D⁻¹Cᵀ.
+#[test]
+fn stand_in_levels_give_the_exact_solution() {
+    let mut data = synthetic_data();
+    let large = Arc::get_mut(&mut data).expect("a fresh data set");
+    large.set_stand_in_levels(&[40, 50]);
+    large.step.c_t_scaled = None;
+    let [solved, with_stand_ins, repeated] = compare_stand_ins_with_exact(data, synthetic_data());
+    // Every solve starts from stand-ins and the ones past a bound must be reached (1518, 1518
+    // and 1518 when written).
+    assert!(solved > 500, "{solved} contact solves");
+    assert_eq!(with_stand_ins, solved);
+    assert!(repeated > 500, "{repeated} solves that reached a stand-in");
+}
+
+/// Runs the contact solves of the stand-in tests on `data`, asserting that each gives the
+/// states, multipliers and corrected q of the solve from exact values on `reference` (the same
+/// basis); returns the counts of solves, of solves with a stand-in and of solves that reached one.
+fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>) -> [usize; 3] {
     let (n, m) = (data.c.ncols(), data.c.nrows());
     let settings = PdasSettings::default();
     let (lower, upper) = (-0.02, 0.02);
@@ -201,7 +233,7 @@ fn stand_in_values_give_the_exact_solution() {
             &settings,
         );
         let fast_multipliers = corrected.map(|c| c.multipliers().to_vec());
-        let mut reference = ModalBackend::new(data.clone());
+        let mut reference = ModalBackend::new(reference.clone());
         let mut next = q.clone();
         let mut states = vec![BoundState::Free; m];
         let exact_stage = Valued {
@@ -233,11 +265,5 @@ fn stand_in_values_give_the_exact_solution() {
         repeated += usize::from(left < stand_ins);
     }
     println!("{solved} solves, {with_stand_ins} with stand-ins, {repeated} repeated");
-    // The cases exercise every path (1518, 1236 and 494 when written).
-    assert!(solved > 500, "{solved} contact solves");
-    assert!(
-        with_stand_ins > 500,
-        "{with_stand_ins} solves with stand-ins"
-    );
-    assert!(repeated > 100, "{repeated} solves that reached a stand-in");
+    [solved, with_stand_ins, repeated]
 }
