@@ -152,6 +152,24 @@ fn value(runs: &Table, q: &str, scene: &str, zeta: f64, mesh: &str, dt: f64, sca
     run(runs, q, scene, zeta, mesh, dt).number("value") * scale
 }
 
+/// The run of `quantity` of `scene` at ratio `zeta` on `mesh` at the smallest Δt it ran.
+fn smallest_dt<'a>(runs: &'a Table, q: &str, scene: &str, zeta: f64, mesh: &str) -> Row<'a> {
+    runs.select(&format!(
+        "quantity={q} scene={scene} modal_ratio={zeta} mesh={mesh}"
+    ))
+    .into_iter()
+    .min_by(|a, b| a.number("dt").total_cmp(&b.number("dt")))
+    .expect("the mesh ran")
+}
+
+/// The write step's converged value from each element's finest run: their mean, ± half their
+/// difference plus twice the larger spread; scaled.
+fn mean_with_bar(a: Row, f: Row, scale: f64) -> [f64; 2] {
+    let (va, vf) = (a.number("value"), f.number("value"));
+    let bar = 0.5 * (va - vf).abs() + 2.0 * a.number("spread").max(f.number("spread"));
+    [0.5 * (va + vf) * scale, bar * scale]
+}
+
 /// The values of `q` at 1e-6 s on `meshes`, scaled.
 fn at_finest(
     runs: &Table,
@@ -199,6 +217,16 @@ const FVS: [&str; 3] = ["fvs:7x5", "fvs:14x10", "fvs:28x20"];
 const FINE: &str = "argyris:20x14";
 /// The finest Argyris mesh (5 257 free dofs), the `fine` part on both forced scenes.
 const FINEST: &str = "argyris:28x20";
+/// The meshes whose 60 Hz mean energy and corner at ζ = 1 % the page and the warning give as one
+/// span over every Δt.
+const SETTLED_60HZ: [&str; 6] = [
+    "argyris:6x4",
+    "argyris:10x7",
+    "argyris:14x10",
+    FINEST,
+    "fvs:14x10",
+    "fvs:28x20",
+];
 
 /// What the study found.
 fn findings(c: &mut Claims, runs: &Table) {
@@ -250,14 +278,7 @@ fn findings(c: &mut Claims, runs: &Table) {
 
 fn sixty(c: &mut Claims, runs: &Table) {
     let s = "forced-60hz";
-    let settled = [
-        "argyris:6x4",
-        "argyris:10x7",
-        "argyris:14x10",
-        FINEST,
-        "fvs:14x10",
-        "fvs:28x20",
-    ];
+    let settled = SETTLED_60HZ;
     c.range(
         "mean energy lies within {13.47}–{13.55} J",
         &every_dt(runs, E, s, 0.01, &settled, 1.0),
@@ -301,16 +322,9 @@ fn sixty(c: &mut Claims, runs: &Table) {
         "(the mean |base.force| −{0.4} %)",
         100.0 * (1.0 - mean_force[1] / mean_force[0]),
     );
-    // The write step's error bar: half the two finest meshes' difference plus twice the larger
-    // spread.
     let a = run(runs, RMS_FORCE, s, 0.01, FINEST, 1e-6);
     let f = run(runs, RMS_FORCE, s, 0.01, "fvs:28x20", 1e-6);
-    let bar = 0.5 * (a.number("value") - f.number("value")).abs()
-        + 2.0 * a.number("spread").max(f.number("spread"));
-    c.values(
-        "{5.48} ± {0.02} kN, the mean",
-        &[finest(RMS_FORCE, 1e-3), bar * 1e-3],
-    );
+    c.values("{5.48} ± {0.02} kN, the mean", &mean_with_bar(a, f, 1e-3));
     c.values(
         "at ω_max·Δt = {0.76} where Argyris 28 × 20 ran 1e-6 s at {61}",
         &[
@@ -441,14 +455,10 @@ fn thirty_five(c: &mut Claims, runs: &Table) {
         "Argyris moved by {1.0} % on its last refinement",
         100.0 * (1.0 - energy_a[4] / energy_a[3]),
     );
-    // The two finest meshes' mean, ± half their difference plus twice the larger spread (the
-    // write step's error bar).
     let pair = |q: &str, scale: f64| {
         let a = run(runs, q, s, 0.01, FINEST, 1e-6);
         let f = run(runs, q, s, 0.01, "fvs:28x20", 1e-6);
-        let (va, vf) = (a.number("value"), f.number("value"));
-        let bar = 0.5 * (va - vf).abs() + 2.0 * a.number("spread").max(f.number("spread"));
-        [0.5 * (va + vf) * scale, bar * scale]
+        mean_with_bar(a, f, scale)
     };
     c.values("refinement): {9.81} ± {0.10} J", &pair(E, 1.0));
     c.values("same rule: {6.61} ± {0.02} mm", &pair(CORNER, 1e3));
@@ -620,23 +630,19 @@ fn ratios(c: &mut Claims, runs: &Table) {
         "rose by {87} % and {58} % at ζ = 0.5 %, {21} % and {19} % at ζ = 2 %",
         &force,
     );
-    // The write step's verdicts: the mean of the two finest meshes, ± half their difference
-    // plus twice the larger spread.
+    // The write step's verdicts, from the two 28 × 20 meshes at 1e-6 s.
     let verdict = |q: &str, zeta: f64, scale: f64| {
         let a = run(runs, q, s, zeta, FINEST, 1e-6);
         let f = run(runs, q, s, zeta, "fvs:28x20", 1e-6);
-        let (va, vf) = (a.number("value"), f.number("value"));
-        let bar = 0.5 * (va - vf).abs() + 2.0 * a.number("spread").max(f.number("spread"));
-        [0.5 * (va + vf) * scale, bar * scale]
+        mean_with_bar(a, f, scale)
     };
-    c.values(
-        "only, {10.8} ± {0.16} J and {6.56} ± {0.04} mm at",
-        &[verdict(E, 0.005, 1.0), verdict(CORNER, 0.005, 1e3)].concat(),
-    );
-    c.values(
-        "{9.10} ± {0.04} J and {6.62} ± {0.03} mm at ζ = 2 %",
-        &[verdict(E, 0.02, 1.0), verdict(CORNER, 0.02, 1e3)].concat(),
-    );
+    for (quote, zeta) in [
+        ("only, {10.8} ± {0.16} J and {6.56} ± {0.04} mm at", 0.005),
+        ("{9.10} ± {0.04} J and {6.62} ± {0.03} mm at ζ = 2 %", 0.02),
+    ] {
+        let both = [verdict(E, zeta, 1.0), verdict(CORNER, zeta, 1e3)];
+        c.values(quote, &both.concat());
+    }
     sixty_ratios(c, runs);
 }
 
@@ -645,28 +651,24 @@ fn sixty_ratios(c: &mut Claims, runs: &Table) {
     let s = "forced-60hz";
     let meshes = ["argyris:10x7", "argyris:14x10", "fvs:14x10"];
     // The write step's verdict: each element's finest mesh at its smallest Δt (Argyris 14 × 10,
-    // FVS 14 × 10), their mean ± half their difference plus twice the larger spread.
+    // FVS 14 × 10).
     let verdict = |q: &str, zeta: f64, scale: f64| {
-        let last = |m: &str| {
-            let mut rows = runs.select(&format!(
-                "quantity={q} scene={s} modal_ratio={zeta} mesh={m}"
-            ));
-            rows.sort_by(|a, b| a.number("dt").total_cmp(&b.number("dt")));
-            rows[0]
-        };
-        let (a, f) = (last("argyris:14x10"), last("fvs:14x10"));
-        let (va, vf) = (a.number("value"), f.number("value"));
-        let bar = 0.5 * (va - vf).abs() + 2.0 * a.number("spread").max(f.number("spread"));
-        [0.5 * (va + vf) * scale, bar * scale]
+        let last = |m: &str| smallest_dt(runs, q, s, zeta, m);
+        mean_with_bar(last("argyris:14x10"), last("fvs:14x10"), scale)
     };
-    c.values(
-        "{13.67} ± {0.11} J and {7.148} ± {0.004} mm at ζ = 0.5 %",
-        &[verdict(E, 0.005, 1.0), verdict(CORNER, 0.005, 1e3)].concat(),
-    );
-    c.values(
-        "{12.92} ± {0.03} J and {7.119} ± {0.002} mm at ζ = 2 %",
-        &[verdict(E, 0.02, 1.0), verdict(CORNER, 0.02, 1e3)].concat(),
-    );
+    for (quote, zeta) in [
+        (
+            "{13.67} ± {0.11} J and {7.148} ± {0.004} mm at ζ = 0.5 %",
+            0.005,
+        ),
+        (
+            "{12.92} ± {0.03} J and {7.119} ± {0.002} mm at ζ = 2 %",
+            0.02,
+        ),
+    ] {
+        let both = [verdict(E, zeta, 1.0), verdict(CORNER, zeta, 1e3)];
+        c.values(quote, &both.concat());
+    }
     // Every mesh that ran both Δt, its change from 1e-5 to 1e-6 s (%).
     let moved = |q: &str| -> Vec<f64> {
         [0.005, 0.02]
@@ -701,11 +703,7 @@ fn sixty_ratios(c: &mut Claims, runs: &Table) {
         .concat(),
     );
     let gap = |z: f64| {
-        let last = |m: &str| {
-            let mut rows = runs.select(&format!("quantity={E} scene={s} modal_ratio={z} mesh={m}"));
-            rows.sort_by(|a, b| a.number("dt").total_cmp(&b.number("dt")));
-            rows[0].number("value")
-        };
+        let last = |m: &str| smallest_dt(runs, E, s, z, m).number("value");
         100.0 * (last("argyris:14x10") / last("fvs:14x10") - 1.0).abs()
     };
     c.upper(
@@ -862,6 +860,26 @@ fn correlation(c: &mut Claims, runs: &Table) {
     c.range("the two replicas is {0.1}–{1.8} times", &ratios);
 }
 
+/// The mean energy at 35 Hz on the two 28 × 20 meshes (Argyris, FVS) at ratio `zeta` and Δt `dt`.
+fn finest_energies(runs: &Table, zeta: f64, dt: f64) -> [f64; 2] {
+    [FINEST, "fvs:28x20"].map(|m| value(runs, E, "forced-35hz", zeta, m, dt, 1.0))
+}
+
+/// How far (%) the mean energy at 35 Hz moved from Δt = 1e-5 to 1e-6 s on the two 28 × 20 meshes
+/// at ζ = 0.5 % and 2 %.
+fn ratio_energy_moves(runs: &Table) -> Vec<f64> {
+    [0.005, 0.02]
+        .iter()
+        .flat_map(|&z| {
+            let (fine, coarse) = (
+                finest_energies(runs, z, 1e-6),
+                finest_energies(runs, z, 1e-5),
+            );
+            [0, 1].map(|k| 100.0 * (fine[k] / coarse[k] - 1.0).abs())
+        })
+        .collect()
+}
+
 /// The README's bullet on the study.
 pub fn readme(c: &mut Claims) {
     let runs = table(&format!("{DIR}modal_damping.csv"));
@@ -874,8 +892,7 @@ pub fn readme(c: &mut Claims) {
         "J at 1 %)",
     ]);
     let s = "forced-35hz";
-    let pair =
-        |zeta: f64, dt: f64| [FINEST, "fvs:28x20"].map(|m| value(&runs, E, s, zeta, m, dt, 1.0));
+    let pair = |zeta: f64, dt: f64| finest_energies(&runs, zeta, dt);
     let gaps: Vec<f64> = [0.005, 0.01, 0.02]
         .iter()
         .map(|&z| {
@@ -903,13 +920,7 @@ pub fn readme(c: &mut Claims) {
     .concat();
     let (lo, hi) = super::data::span(&energies);
     c.value("up to {19} % high", 100.0 * (hi / lo - 1.0));
-    let moved: Vec<f64> = [0.005, 0.02]
-        .iter()
-        .flat_map(|&z| {
-            let (fine, coarse) = (pair(z, 1e-6), pair(z, 1e-5));
-            [0, 1].map(|k| 100.0 * (fine[k] / coarse[k] - 1.0).abs())
-        })
-        .collect();
+    let moved = ratio_energy_moves(&runs);
     c.range("the energy moves {2}–{5} % from", &moved);
 }
 
@@ -918,19 +929,11 @@ pub fn readme(c: &mut Claims) {
 pub fn warning_numbers() -> Vec<String> {
     let runs = table(&format!("{DIR}modal_damping.csv"));
     let mut stated = Vec::new();
-    let settled = [
-        "argyris:6x4",
-        "argyris:10x7",
-        "argyris:14x10",
-        FINEST,
-        "fvs:14x10",
-        "fvs:28x20",
-    ];
+    let settled = SETTLED_60HZ;
     let (lo, hi) = super::data::span(&every_dt(&runs, E, "forced-60hz", 0.01, &settled, 1.0));
     stated.push(format!("({lo:.2} to {hi:.2} J on every mesh"));
     let s = "forced-35hz";
-    let pair =
-        |zeta: f64, dt: f64| [FINEST, "fvs:28x20"].map(|m| value(&runs, E, s, zeta, m, dt, 1.0));
+    let pair = |zeta: f64, dt: f64| finest_energies(&runs, zeta, dt);
     let [a, f] = pair(0.01, 1e-6);
     stated.push(format!("({:.2} J)", 0.5 * (a + f)));
     let apart = |[a, f]: [f64; 2]| 100.0 * (a / f - 1.0).abs();
@@ -942,13 +945,7 @@ pub fn warning_numbers() -> Vec<String> {
     ));
     let ratios = apart(pair(0.005, 1e-6)).max(apart(pair(0.02, 1e-6)));
     stated.push(format!("and {:.1} % at 0.5 and 2 %", up(ratios, 1)));
-    let moved: Vec<f64> = [0.005, 0.02]
-        .iter()
-        .flat_map(|&z| {
-            let (fine, coarse) = (pair(z, 1e-6), pair(z, 1e-5));
-            [0, 1].map(|k| 100.0 * (fine[k] / coarse[k] - 1.0).abs())
-        })
-        .collect();
+    let moved = ratio_energy_moves(&runs);
     let (lo, hi) = super::data::span(&moved);
     stated.push(format!("moved by {lo:.0} to {hi:.0} % at 0.5 and 2 %"));
     let force: Vec<f64> = [0.005, 0.01, 0.02]
