@@ -577,22 +577,30 @@ fn finer_dt_fine(c: &mut Claims, runs: &Table) {
         "ω_max·Δt = {0.94}), moved",
         at(E, 1e-7).number("omega_max_dt"),
     );
-    c.values(
-        "mean energy went from {9.81} ± {0.05} to {9.72} ± {0.02} J",
-        &pair(E, 1.0),
-    );
-    c.values(
-        "corner from {6.614} ± {0.007} to {6.582} ± {0.007} mm",
-        &pair(CORNER, 1e3),
-    );
-    c.values(
-        "force from {7.80} ± {0.07} to {7.71} ± {0.06} kN",
-        &pair(RMS_FORCE, 1e-3),
-    );
-    c.values(
-        "|base.force| from {4.58} ± {0.04} to {4.52} ± {0.02} kN",
-        &pair("mean_abs_base_force_N", 1e-3),
-    );
+    for (quote, q, scale) in [
+        (
+            "mean energy went from {9.81} ± {0.05} to {9.72} ± {0.02} J",
+            E,
+            1.0,
+        ),
+        (
+            "corner from {6.614} ± {0.007} to {6.582} ± {0.007} mm",
+            CORNER,
+            1e3,
+        ),
+        (
+            "force from {7.80} ± {0.07} to {7.71} ± {0.06} kN",
+            RMS_FORCE,
+            1e-3,
+        ),
+        (
+            "|base.force| from {4.58} ± {0.04} to {4.52} ± {0.02} kN",
+            "mean_abs_base_force_N",
+            1e-3,
+        ),
+    ] {
+        c.values(quote, &pair(q, scale));
+    }
     let four = [E, CORNER, RMS_FORCE, "mean_abs_base_force_N"];
     let fine: Vec<f64> = four.iter().map(|q| change(q, 1e-6, 1e-7)).collect();
     c.values("J ({−1.0} %), the RMS corner", &fine[..1]);
