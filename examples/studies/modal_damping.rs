@@ -9,7 +9,7 @@
 //! `python -m plateimpact_tools.studies.modal_damping_plots` writes the plots and the generated
 //! part of the page.
 //! A selection runs a part of it, to share the study between processes (its CSVs are then
-//! concatenated and the plotting script run on the result): `--part middle,third,ratios,fine`,
+//! concatenated and the plotting script run on the result): `--part middle,third,ratios,fine,finedt`,
 //! `--scenes LABEL,…` among [`SCENES`], `--zeta 0.005,0.01`, `--keep-mesh argyris:28x20,…` keep
 //! those lines of the plan; `--mesh argyris:10x7,fvs:14x10` runs those meshes instead of the
 //! plan's, `--dt 1e-5,1e-6` that ladder, `--duration S`, `--transient S`, `--window S`,
@@ -583,9 +583,11 @@ fn estimate(
 ///   would cost more than its line's cap, two perturbed replicas on Argyris 10 × 7;
 /// - `third`: the aluminium plate at ζ = 1 %, two Argyris meshes and one FVS mesh;
 /// - `ratios`: ζ = 0.5 % and 2 % on both forced scenes, Argyris 10 × 7, 14 × 10 and FVS 14 × 10,
-///   Δt = 1e-5 and 1e-6 s;
+///   then at 35 Hz FVS 28 × 20 and Argyris 28 × 20, Δt = 1e-5 and 1e-6 s;
 /// - `fine`: ζ = 1 % on both forced scenes, Argyris 20 × 14 at Δt = 1e-5 and 1e-6 s, then
-///   Argyris 28 × 20 (5 257 free dofs) from Δt = 1e-4 s.
+///   Argyris 28 × 20 (5 257 free dofs) from Δt = 1e-4 s;
+/// - `finedt`: Argyris 10 × 7 at ζ = 1 % and Δt = 1e-7 s, 60 Hz then 35 Hz; then FVS 28 × 20 at
+///   35 Hz.
 fn committed_plan() -> Plan {
     use ElementKind::{Argyris, Fvs};
     let mesh = |element, nx, ny| Mesh { element, nx, ny };
@@ -629,13 +631,16 @@ fn committed_plan() -> Plan {
             ));
         }
     }
-    // Part `third`: the aluminium plate at ζ = 1 %, two meshes of each element.
-    for m in [
-        mesh(Argyris, 7, 7),
-        mesh(Argyris, 10, 10),
-        mesh(Fvs, 14, 14),
-    ] {
-        lines.push(line("third", SCENES[2], 0.01, m, &LADDER[..3], 60.0, 0));
+    // Part `third`: the aluminium plate at ζ = 1 %, two meshes of each element, then at 0.5 % and
+    // 2 % on the same meshes (each run under 20 CPU s at ζ = 1 %).
+    for zeta in [0.01, 0.005, 0.02] {
+        for m in [
+            mesh(Argyris, 7, 7),
+            mesh(Argyris, 10, 10),
+            mesh(Fvs, 14, 14),
+        ] {
+            lines.push(line("third", SCENES[2], zeta, m, &LADDER[..3], 60.0, 0));
+        }
     }
     // Part `ratios`: ζ = 0.5 % and 2 % on the paper's plate, one middle mesh of each element.
     for forcing in [SCENES[0], SCENES[1]] {
@@ -649,6 +654,20 @@ fn committed_plan() -> Plan {
             }
         }
     }
+    // Then, at 35 Hz, each element's finest mesh at both ratios, FVS 28 × 20 (the cheaper) first:
+    // whether the elements meet there as they do at ζ = 1 %. The cap lets Argyris 28 × 20's
+    // 1e-6 s run happen (265 CPU s at ζ = 1 %).
+    for m in [mesh(Fvs, 28, 20), mesh(Argyris, 28, 20)] {
+        for zeta in [0.005, 0.02] {
+            lines.push(line("ratios", SCENES[0], zeta, m, &LADDER[1..3], 600.0, 0));
+        }
+    }
+    // And the same finest meshes at 60 Hz (ζ = 1 %: 47 and 120 CPU s at 1e-6 s).
+    for m in [mesh(Fvs, 28, 20), mesh(Argyris, 28, 20)] {
+        for zeta in [0.005, 0.02] {
+            lines.push(line("ratios", SCENES[1], zeta, m, &LADDER[1..3], 600.0, 0));
+        }
+    }
     // Part `fine`: Argyris 20 × 14 at ζ = 1 % (its set-up, two dense eigendecompositions, about
     // 40 CPU s) from Δt = 1e-5 s; then Argyris 28 × 20 (5 257 free dofs, set-up by the band and
     // divide-and-conquer eigensolver, about 20 CPU s twice) on the whole ladder, 35 Hz first.
@@ -660,6 +679,32 @@ fn committed_plan() -> Plan {
             lines.push(line("fine", forcing, 0.01, m, ladder, cap, 0));
         }
     }
+    // Part `finedt`: Δt = 1e-7 s on Argyris 10 × 7 at ζ = 1 %, 60 Hz then 35 Hz, without replicas
+    // (about 1.3 µs per step at 1e-6 s, so 7e7 steps cost 70–100 CPU s): whether the RMS base
+    // force and the 35 Hz corner, still moving at 1e-6 s, settle one decade further.
+    for forcing in [SCENES[1], SCENES[0]] {
+        lines.push(line(
+            "finedt",
+            forcing,
+            0.01,
+            mesh(Argyris, 10, 7),
+            &LADDER[3..],
+            200.0,
+            0,
+        ));
+    }
+    // Then FVS 28 × 20 at 35 Hz, the finest mesh whose 1e-7 s run fits (7.9 µs per step at
+    // 1e-6 s, so about 9 CPU minutes): whether the 35 Hz corner and base force, which Argyris
+    // 10 × 7 found settled at 1e-6 s, have settled on a fine mesh too.
+    lines.push(line(
+        "finedt",
+        SCENES[0],
+        0.01,
+        mesh(Fvs, 28, 20),
+        &LADDER[3..],
+        900.0,
+        0,
+    ));
     Plan {
         name: "committed",
         lines,
@@ -742,7 +787,9 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
             .iter()
             .find(|p| !plan.lines.iter().any(|l| l.part == **p))
         {
-            return Err(format!("--part {bad}: use middle, third, ratios or fine"));
+            return Err(format!(
+                "--part {bad}: use middle, third, ratios, fine or finedt"
+            ));
         }
         plan.lines.retain(|l| parts.contains(&l.part));
         partial = true;

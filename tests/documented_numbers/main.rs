@@ -97,3 +97,15 @@ fn damping() {
 fn modal_damping() {
     check("docs/accuracy/modal_damping.md");
 }
+
+/// The start-up warning's finding for a modal ratio restates the study's numbers.
+#[test]
+fn modal_ratio_warning() {
+    let warning = plate_impact::advice::MODAL_RATIO_FINDING;
+    for number in modal_damping::warning_numbers() {
+        assert!(
+            warning.contains(&number),
+            "the modal-ratio warning should state {number:?}: {warning}"
+        );
+    }
+}

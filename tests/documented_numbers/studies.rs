@@ -13,6 +13,10 @@ pub fn claims() -> Claims {
         "the restitution study (docs/restitution/) commits plots, not the data behind its numbers",
     );
     c.given(&[
+        "ζ = 0.5, 1 and 2 %",
+        "(5 257 free dofs on Argyris), Δt down to 1e-6 s and on two meshes to 1e-7 s",
+        "at ζ = 0.5 and 2 %",
+        "above 1 kHz",
         "`1.04` ± 0.005, `5` ± 0.5, `2e-6` ± 0.5e-6",
         "\"within 1 %\"",
         "\"0.01–0.4 %\"",

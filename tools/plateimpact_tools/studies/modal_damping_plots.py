@@ -415,7 +415,10 @@ def plot_bands(bands, scenes, zetas, out):
             ax.set_xlabel("band of natural frequency, lower edge (Hz)", fontsize=7)
             ax.set_ylabel("share of the modal energy", fontsize=7)
             ax.tick_params(labelsize=6)
-            ax.legend(fontsize=5)
+            if ax.get_lines():
+                ax.legend(fontsize=5)
+            else:  # a (scene, ratio) the study did not run
+                ax.text(0.5, 0.5, "not run", transform=ax.transAxes, ha="center", fontsize=8)
     save(fig, out / "modal_damping_bands.png", dpi=90)
 
 
