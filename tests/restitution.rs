@@ -1034,16 +1034,11 @@ fn fast_path_matches_clarabel_for_restitution() {
             let mut s = common::paper_scene(name, element);
             s.solver.restitution = e;
             s.solver.impact_law = law;
-            let a = common::fast_path_against_clarabel(&s, 6000, 40);
-            println!(
-                "e = {e} ({law:?}), {name} {element:?}: {} contact steps compared, up to {} contacts, worst difference {:.2e} m",
-                a.compared, a.most_active, a.worst
-            );
-            assert!(a.compared >= 10, "{name}: too few contact steps");
-            assert!(
-                a.worst <= 1e-9,
-                "e = {e}, {name} {element:?}: fast path and clarabel differ by {:e} m",
-                a.worst
+            common::assert_fast_path_matches_clarabel(
+                &format!("e = {e} ({law:?}), {name} {element:?}"),
+                &s,
+                6000,
+                40,
             );
         }
     }

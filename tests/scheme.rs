@@ -136,16 +136,11 @@ fn fast_path_matches_clarabel_on_contact_steps() {
         ("energy", ElementKind::Argyris),
         ("energy", ElementKind::Fvs),
     ] {
-        let a = common::fast_path_against_clarabel(&scene(name, element), 4000, 40);
-        println!(
-            "{name} {element:?}: {} contact steps compared, up to {} contacts, worst difference {:.2e} m",
-            a.compared, a.most_active, a.worst
-        );
-        assert!(a.compared >= 10, "{name}: too few contact steps");
-        assert!(
-            a.worst <= 1e-9,
-            "{name} {element:?}: fast path and clarabel differ by {:e} m",
-            a.worst
+        common::assert_fast_path_matches_clarabel(
+            &format!("{name} {element:?}"),
+            &scene(name, element),
+            4000,
+            40,
         );
     }
 }
@@ -159,17 +154,7 @@ fn fast_path_matches_clarabel_on_a_large_modal_basis() {
     let mut s = scene("forced-35hz", ElementKind::Argyris);
     (s.mesh.nx, s.mesh.ny) = (18, 12);
     s.solver.linear = LinearChoice::Modal;
-    let a = common::fast_path_against_clarabel(&s, 4000, 10);
-    println!(
-        "Argyris 18×12 modal: {} contact steps compared, up to {} contacts, worst difference {:.2e} m",
-        a.compared, a.most_active, a.worst
-    );
-    assert!(a.compared >= 10, "too few contact steps");
-    assert!(
-        a.worst <= 1e-9,
-        "fast path and clarabel differ by {:e} m",
-        a.worst
-    );
+    common::assert_fast_path_matches_clarabel("Argyris 18×12 modal", &s, 4000, 10);
 }
 
 /// Second-order convergence in Δt without contact. The base follows the smooth start
