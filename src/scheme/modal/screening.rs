@@ -28,6 +28,8 @@ pub(super) struct Screening {
     /// screening level's low-mode part ŷ_i, with |y*_i − ŷ_i| ≤ `slack[i]`.
     pub(super) stand_in: Vec<bool>,
     slack: Vec<f64>,
+    /// ‖q_H‖ past the last screening level and past each stand-in level, for [`Self::values`].
+    remainder_norms: Vec<f64>,
 }
 
 /// What the screening of one prediction found.
@@ -50,6 +52,7 @@ impl Screening {
             near: false,
             stand_in: vec![false; m],
             slack: vec![0.0; m],
+            remainder_norms: Vec::with_capacity(1 + data.stand_in_levels.len()),
         }
     }
 
@@ -172,8 +175,8 @@ impl Screening {
     ) -> bool {
         let last = data.levels.len() - 1;
         let total = norm_squared.sqrt();
-        // ‖q_H‖ past the last screening level and past each stand-in level.
-        let mut high = Vec::with_capacity(1 + data.stand_in_levels.len());
+        let high = &mut self.remainder_norms;
+        high.clear();
         high.push(self.high_squared[last].sqrt());
         high.extend(
             data.stand_in_levels
