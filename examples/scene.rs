@@ -13,11 +13,13 @@
 //! * The CSV (header `t,corner1,corner2,edge_mid,energy_total,active,contact_force`, one row per
 //!   record) goes to FILE with `--out`, else to stdout unless `--field` is given.
 //! * `--field FILE` writes JSON for animations (`examples/plate_animation.py`): the mesh
-//!   (`vertices` [x, y] in m, `cells` as vertex ids, `clamped` vertex ids on x = 0), the obstacle
-//!   levels (null when absent), and one frame per record with `t` (s), `base` z(t_n) (m),
-//!   `energy` (J), `u` the displacement u_n at every vertex (m; clamp vertices carry z(t_n)) and
-//!   `contact` the vertices whose contact force is nonzero. The values at the vertices off the
-//!   clamp are those the obstacle constraint acts on, so the scene needs at least one obstacle.
+//!   (`vertices` [x, y] in m, `cells` as vertex ids, `clamped` the clamp's vertex ids), the
+//!   obstacle levels (null when absent), profiles and clamp as given, the contact points
+//!   (`points` [x, y] in m, with the obstacles' heights over them `lower_heights`,
+//!   `upper_heights`, null where absent), and one frame per record with `t` (s), `base` z(t_n)
+//!   (m), `energy` (J), `u` the displacement u_n at every vertex (m; clamp vertices carry z(t_n)),
+//!   `contact` the vertices whose contact force is nonzero and `contact_points` the contact points
+//!   whose force is nonzero (indices into `points`).
 //!
 //! stderr gets the wall time, the step count, how many steps needed a QP and by which path, and
 //! µs per step.
@@ -80,43 +82,29 @@ fn parse() -> Result<Options, String> {
     Ok(options)
 }
 
-/// The displacement at every mesh vertex, composed from the library's public pieces: the
-/// stepper's values at the obstacle-constrained vertices (every vertex off the clamp) and the
-/// base displacement at the clamp vertices.
+/// The displacement at every mesh vertex, from the stepper, with the contact points of the
+/// obstacles and which of them carry a force.
 struct VertexField {
-    /// Mesh vertex of each obstacle-constrained value, in the stepper's order.
-    constrained_vertex: Vec<usize>,
-    clamped: Vec<usize>,
-    /// The JSON header: mesh and obstacles.
+    /// The mesh vertex of each contact point, where it is one.
+    point_vertex: Vec<Option<usize>>,
+    /// The JSON header: mesh, clamp and obstacles.
     header: Value,
     frames: Vec<Value>,
 }
 
 impl VertexField {
-    fn new(scene: &Scene, plate: &PlateSystem) -> Result<VertexField, String> {
+    fn new(scene: &Scene, plate: &PlateSystem) -> VertexField {
         let disc = &plate.disc;
-        let vertex_count = disc.mesh.vertices.len();
-        // The constrained indices point into the free dofs; each is the value dof of one vertex.
-        let mut vertex_of_dof = vec![None; disc.dof_count];
-        for v in 0..vertex_count {
-            vertex_of_dof[disc.value_dof(v)] = Some(v);
-        }
-        let constrained_vertex = plate
-            .constrained
-            .iter()
-            .map(|&k| vertex_of_dof[plate.free[k]].expect("constrained dofs are value dofs"))
-            .collect::<Vec<_>>();
-        let clamped = disc.clamped_vertices();
-        if scene.lower_obstacle().is_none() && scene.upper_obstacle().is_none() {
-            return Err("--field needs an obstacle (obstacle.lower_enabled or obstacle.upper_enabled = true): the library reports the field at the vertices the obstacles constrain".into());
-        }
-        if constrained_vertex.len() + clamped.len() != vertex_count {
-            return Err(format!(
-                "{} constrained and {} clamp vertices do not cover the {vertex_count} mesh vertices",
-                constrained_vertex.len(),
-                clamped.len()
-            ));
-        }
+        let clamped: Vec<usize> = disc
+            .clamped_vertices(&plate.clamped)
+            .into_iter()
+            .map(|(v, _)| v)
+            .collect();
+        let layout = &plate.layout;
+        let [lower_heights, upper_heights] = layout.heights();
+        let finite = |h: &[f64]| -> Vec<Option<f64>> {
+            h.iter().map(|&h| h.is_finite().then_some(h)).collect()
+        };
         let header = json!({
             "element": format!("{:?}", scene.mesh.element).to_lowercase(),
             "length": scene.plate.length,
@@ -126,37 +114,33 @@ impl VertexField {
             "base_frequency": scene.base.frequency,
             "lower": scene.lower_obstacle(),
             "upper": scene.upper_obstacle(),
+            "lower_profile": scene.obstacle.lower_profile,
+            "upper_profile": scene.obstacle.upper_profile,
+            "clamp": scene.plate.clamp,
             "vertices": disc.mesh.vertices,
             "cells": disc.mesh.cells,
             "clamped": clamped,
+            "points": layout.points.iter().map(|p| p.position).collect::<Vec<_>>(),
+            "lower_heights": finite(&lower_heights),
+            "upper_heights": finite(&upper_heights),
         });
-        Ok(VertexField {
-            constrained_vertex,
-            clamped,
+        VertexField {
+            point_vertex: layout.points.iter().map(|p| p.vertex).collect(),
             header,
             frames: Vec::new(),
-        })
+        }
     }
 
-    /// Records u_n at every vertex, given the base displacement z(t_n).
+    /// Records u_n at every vertex and the contact points in contact, given the base
+    /// displacement z(t_n).
     fn record(&mut self, stepper: &Stepper, base: f64) {
-        let mut u = vec![0.0; self.constrained_vertex.len() + self.clamped.len()];
-        for &v in &self.clamped {
-            u[v] = base;
-        }
-        for (&v, value) in self
-            .constrained_vertex
+        let [_, u] = stepper.vertex_displacements();
+        let in_contact: Vec<usize> = (0..self.point_vertex.len())
+            .filter(|&i| stepper.contact_forces()[i] != 0.0)
+            .collect();
+        let contact: Vec<usize> = in_contact
             .iter()
-            .zip(stepper.constrained_displacements())
-        {
-            u[v] = value;
-        }
-        let contact: Vec<usize> = self
-            .constrained_vertex
-            .iter()
-            .zip(stepper.contact_forces())
-            .filter(|(_, &f)| f != 0.0)
-            .map(|(&v, _)| v)
+            .filter_map(|&i| self.point_vertex[i])
             .collect();
         self.frames.push(json!({
             "t": stepper.time(),
@@ -164,6 +148,7 @@ impl VertexField {
             "energy": stepper.outputs().energy_total,
             "u": u,
             "contact": contact,
+            "contact_points": in_contact,
         }));
     }
 
@@ -207,10 +192,10 @@ fn run() -> Result<(), String> {
     let mut stepper =
         Stepper::from_system(scene, &plate, scene.builtin_base(0.0)).map_err(|e| e.to_string())?;
     let setup_time = setup.elapsed().as_secs_f64();
-    let mut field = match &options.field {
-        Some(_) => Some(VertexField::new(scene, &plate)?),
-        None => None,
-    };
+    let mut field = options
+        .field
+        .as_ref()
+        .map(|_| VertexField::new(scene, &plate));
     if let Some(out) = csv.as_mut() {
         writeln!(
             out,

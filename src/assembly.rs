@@ -10,6 +10,7 @@ use crate::element::argyris::ArgyrisCell;
 use crate::element::fvs::FvsCell;
 use crate::element::{CellBasis, ElementKind, Jet};
 use crate::mesh::Mesh;
+use crate::scene::{ClampedEdges, Side};
 use faer::sparse::{SparseColMat, Triplet};
 
 /// Quadrature degree for the stiffness: on affine cells the Hessian of a quintic is cubic, so the
@@ -152,52 +153,62 @@ impl Discretization {
         dofs_per_vertex(self.element) * v
     }
 
-    /// Vertices on the clamped edge Γc = {x = 0}.
-    pub fn clamped_vertices(&self) -> Vec<usize> {
-        let tol = 1e-12 * self.h;
+    /// The vertices of the clamp Γc (`clamp`, on this mesh), sorted, each with the sides of the
+    /// plate along which it is clamped (two at a corner where two clamped sides meet).
+    pub fn clamped_vertices(&self, clamp: &ClampedEdges) -> Vec<(usize, Vec<Side>)> {
+        let tolerance = 1e-9 * self.h;
         (0..self.mesh.vertices.len())
-            .filter(|&v| self.mesh.vertices[v][0].abs() <= tol)
+            .map(|v| (v, clamp.sides_through(self.mesh.vertices[v], tolerance)))
+            .filter(|(_, sides)| !sides.is_empty())
             .collect()
     }
 
-    /// The dofs the clamp fixes (`docs/elements.md` §5), sorted: at Γc vertices w (= z(t)), w_x,
-    /// w_y, and for Argyris also w_xy, w_yy (w_xx stays free) and the normal derivative at the
-    /// midpoint of every edge lying on Γc. Every one of them is 0 except the value dofs, which
-    /// equal z(t).
-    pub fn clamp_dofs(&self) -> Vec<usize> {
-        let clamped = self.clamped_vertices();
+    /// The dofs the clamp `clamp` fixes (`docs/elements.md` §5), sorted: at every vertex of Γc
+    /// w (= z(t)), w_x and w_y; for Argyris also the second derivatives that u = z and ∂u/∂n = 0
+    /// along each clamped side through the vertex fix (along x = const: w_yy and w_xy; along
+    /// y = const: w_xx and w_xy; all three at a corner of two clamped sides) and the normal
+    /// derivative at the midpoint of every mesh edge of Γc. Every one of them is 0 except the
+    /// value dofs, which equal z(t).
+    pub fn clamp_dofs(&self, clamp: &ClampedEdges) -> Vec<usize> {
         let k = dofs_per_vertex(self.element);
-        let local: &[usize] = match self.element {
-            ElementKind::Argyris => &[0, 1, 2, 4, 5],
-            ElementKind::Fvs => &[0, 1, 2],
-        };
-        let mut dofs: Vec<usize> = clamped
-            .iter()
-            .flat_map(|&v| local.iter().map(move |&j| k * v + j))
-            .collect();
+        let mut dofs: Vec<usize> = Vec::new();
+        for (v, sides) in self.clamped_vertices(clamp) {
+            let mut local = vec![0, 1, 2];
+            if self.element == ElementKind::Argyris {
+                for side in sides {
+                    // Along x = const the tangent is y: w_yy (5) and w_xy (4); else w_xx (3).
+                    local.extend(if side.is_x_constant() { [4, 5] } else { [3, 4] });
+                }
+            }
+            local.sort_unstable();
+            local.dedup();
+            dofs.extend(local.into_iter().map(|j| k * v + j));
+        }
         if self.element == ElementKind::Argyris {
-            let on_clamp = |v: usize| clamped.binary_search(&v).is_ok();
+            let tolerance = 1e-9 * self.h;
             let nv = self.mesh.vertices.len();
             dofs.extend(
                 self.mesh
                     .edges
                     .iter()
                     .enumerate()
-                    .filter(|(_, [a, b])| on_clamp(*a) && on_clamp(*b))
+                    .filter(|(_, &[a, b])| {
+                        let (pa, pb) = (self.mesh.vertices[a], self.mesh.vertices[b]);
+                        let middle = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])];
+                        // An edge of Γc: its midpoint and both ends clamped along one side.
+                        clamp.sides_through(middle, tolerance).iter().any(|side| {
+                            let ends = [
+                                clamp.sides_through(pa, tolerance),
+                                clamp.sides_through(pb, tolerance),
+                            ];
+                            ends.iter().all(|s| s.contains(side))
+                        })
+                    })
                     .map(|(e, _)| k * nv + e),
             );
         }
         dofs.sort_unstable();
         dofs
-    }
-
-    /// The value dofs of the vertices off Γc: where the obstacle constraint g1 ≤ u ≤ g2 applies.
-    pub fn constrained_value_dofs(&self) -> Vec<usize> {
-        let clamped = self.clamped_vertices();
-        (0..self.mesh.vertices.len())
-            .filter(|v| clamped.binary_search(v).is_err())
-            .map(|v| self.value_dof(v))
-            .collect()
     }
 
     /// Global dof vector of the interpolant of a smooth field (given by its jet). Shared dofs are

@@ -2,10 +2,12 @@
 //! (before anything is assembled), so that a scene too large for the host can be refused with a
 //! message that names the estimate.
 //!
-//! The sizes follow from the mesh: V = (nx + 1)(ny + 1) vertices, ny + 1 of them on the clamp;
-//! Argyris has 6 dofs per vertex and one per edge (E = nx(ny + 1) + (nx + 1)ny + nx·ny edges), of
-//! which the clamp fixes 5 per clamp vertex and the ny clamp edges; FVS has 3 dofs per vertex, all
-//! fixed on the clamp. The m = nx(ny + 1) vertices off the clamp are the constrained ones.
+//! The sizes follow from the mesh and the clamp: V = (nx + 1)(ny + 1) vertices; Argyris has 6 dofs
+//! per vertex and one per edge (E = nx(ny + 1) + (nx + 1)ny + nx·ny edges), of which the clamp
+//! fixes 5 per clamp vertex (6 at a corner of two clamped sides) and one per clamped mesh edge;
+//! FVS has 3 dofs per vertex, all fixed on the clamp. The m contact points are those of the
+//! obstacles' layout ([`ObstacleLayout`]): with flat obstacles and the clamp on x = 0, the
+//! nx(ny + 1) vertices off it.
 //!
 //! The memory, in parts (bytes; a sparse entry is an f64 and a usize index, 16 bytes; an assembly
 //! triplet 24 bytes):
@@ -44,6 +46,8 @@ use crate::contact::delassus::DEFAULT_DELASSUS_BUDGET;
 use crate::contact::sparse_contact::delassus_limit;
 use crate::element::ElementKind;
 use crate::error::Error;
+use crate::mesh::grid_vertices;
+use crate::obstacles::ObstacleLayout;
 use crate::scene::{LinearChoice, Scene};
 
 /// n × n dense matrices alive at the peak of the modal set-up (dense M_ff and K_ff, the Cholesky
@@ -85,25 +89,36 @@ pub struct ProblemSize {
 }
 
 impl ProblemSize {
-    /// The sizes of `scene`'s mesh (module docs).
-    pub fn of(scene: &Scene) -> ProblemSize {
+    /// The sizes of `scene`'s mesh (module docs), without assembling anything: an error when its
+    /// clamp or profiles are invalid.
+    pub fn of(scene: &Scene) -> Result<ProblemSize, Error> {
         let (nx, ny) = (scene.mesh.nx, scene.mesh.ny);
-        let vertices = (nx + 1) * (ny + 1);
+        let vertices = grid_vertices(scene.plate.length, scene.plate.width, nx, ny);
+        let clamped = scene.clamped_edges()?;
+        let tolerance = 1e-9 * scene.cell_size();
+        let clamp_sides: Vec<usize> = vertices
+            .iter()
+            .map(|&p| clamped.sides_through(p, tolerance).len())
+            .filter(|&sides| sides > 0)
+            .collect();
+        let clamped_edges = clamped.sides.iter().flatten().filter(|&&c| c).count();
         let (dofs, clamp, cells) = match scene.mesh.element {
             ElementKind::Argyris => {
                 let edges = nx * (ny + 1) + (nx + 1) * ny + nx * ny;
-                (6 * vertices + edges, 5 * (ny + 1) + ny, 2 * nx * ny)
+                // 5 dofs per clamp vertex, 6 where two clamped sides meet, one per clamped edge.
+                let fixed = clamp_sides.iter().map(|&s| 4 + s).sum::<usize>() + clamped_edges;
+                (6 * vertices.len() + edges, fixed, 2 * nx * ny)
             }
-            ElementKind::Fvs => (3 * vertices, 3 * (ny + 1), nx * ny),
+            ElementKind::Fvs => (3 * vertices.len(), 3 * clamp_sides.len(), nx * ny),
         };
-        let obstacle = scene.obstacle.lower_enabled || scene.obstacle.upper_enabled;
-        ProblemSize {
+        let layout = ObstacleLayout::new(scene, &vertices, &clamped)?;
+        Ok(ProblemSize {
             mesh: (nx, ny),
             dofs,
             free_dofs: dofs - clamp,
-            constrained: if obstacle { nx * (ny + 1) } else { 0 },
+            constrained: layout.points.len(),
             cells,
-        }
+        })
     }
 }
 
@@ -125,9 +140,9 @@ pub struct MemoryEstimate {
 }
 
 impl MemoryEstimate {
-    /// The estimate of `scene` (module docs).
-    pub fn of(scene: &Scene) -> MemoryEstimate {
-        let size = ProblemSize::of(scene);
+    /// The estimate of `scene` (module docs): an error when its clamp or profiles are invalid.
+    pub fn of(scene: &Scene) -> Result<MemoryEstimate, Error> {
+        let size = ProblemSize::of(scene)?;
         let (n, m) = (size.free_dofs as f64, size.constrained as f64);
         let (entries_per_dof, cell_dofs, n0, l0) = match scene.mesh.element {
             ElementKind::Argyris => (45.0, 21.0, 45_751.0, 7_902_951.0),
@@ -157,14 +172,14 @@ impl MemoryEstimate {
                 (factor, columns + block + eliminated)
             }
         };
-        MemoryEstimate {
+        Ok(MemoryEstimate {
             size,
             backend,
             assembly: assembly as usize,
             system: system as usize,
             backend_data: backend_data as usize,
             contact: contact as usize,
-        }
+        })
     }
 
     /// The estimated peak of the set-up: the larger of the assembly peak and what the set-up
@@ -238,12 +253,12 @@ mod tests {
         ] {
             let s = scene(element, nx, ny);
             let plate = PlateSystem::new(&s).unwrap();
-            let size = ProblemSize::of(&s);
+            let size = ProblemSize::of(&s).unwrap();
             assert_eq!(size.dofs, plate.disc.dof_count, "{element:?} {nx}×{ny}");
             assert_eq!(size.free_dofs, plate.free.len(), "{element:?} {nx}×{ny}");
             assert_eq!(
                 size.constrained,
-                plate.constrained.len(),
+                plate.contact_rows.len(),
                 "{element:?} {nx}×{ny}"
             );
             assert_eq!(
@@ -255,7 +270,7 @@ mod tests {
         let mut free_plate = scene(ElementKind::Fvs, 4, 2);
         free_plate.obstacle.lower_enabled = false;
         free_plate.obstacle.upper_enabled = false;
-        assert_eq!(ProblemSize::of(&free_plate).constrained, 0);
+        assert_eq!(ProblemSize::of(&free_plate).unwrap().constrained, 0);
     }
 
     /// The set-up estimate against the peak resident memory measured by `cargo bench --bench
@@ -295,7 +310,7 @@ mod tests {
             (ElementKind::Fvs, 44, 30, 428.8),
         ];
         for &(element, nx, ny, _) in &measured_mib {
-            let size = ProblemSize::of(&scene(element, nx, ny));
+            let size = ProblemSize::of(&scene(element, nx, ny)).unwrap();
             assert!(size.free_dofs > crate::modes::DENSE_LIMIT);
         }
         assert_estimates_follow(&measured_mib, LinearChoice::Modal);
@@ -312,7 +327,7 @@ mod tests {
         for &(element, nx, ny, measured) in measured_mib {
             let mut scene = scene(element, nx, ny);
             scene.solver.linear = linear;
-            let estimate = MemoryEstimate::of(&scene);
+            let estimate = MemoryEstimate::of(&scene).unwrap();
             let ratio = estimate.setup() as f64 / (1u64 << 20) as f64 / (measured - process);
             println!("{element:?} {nx}×{ny}: estimate / measured = {ratio:.2}");
             // The spread of the calibration (assembly workspace, dense copies, fill exponent;
@@ -327,7 +342,7 @@ mod tests {
 
     #[test]
     fn an_estimate_over_the_budget_is_refused_by_name() {
-        let estimate = MemoryEstimate::of(&scene(ElementKind::Argyris, 400, 400));
+        let estimate = MemoryEstimate::of(&scene(ElementKind::Argyris, 400, 400)).unwrap();
         assert_eq!(estimate.backend, LinearChoice::Sparse);
         let err = estimate
             .check(DEFAULT_MEMORY_BUDGET)
@@ -339,6 +354,7 @@ mod tests {
         );
         assert!(err.contains("MiB") && err.contains("4096 MiB"), "{err}");
         assert!(MemoryEstimate::of(&scene(ElementKind::Fvs, 14, 10))
+            .unwrap()
             .check(DEFAULT_MEMORY_BUDGET)
             .is_ok());
     }
@@ -353,6 +369,7 @@ mod tests {
             Err(err) => err.to_string(),
         };
         let expected = MemoryEstimate::of(&scene(ElementKind::Argyris, 400, 400))
+            .unwrap()
             .check(DEFAULT_MEMORY_BUDGET)
             .unwrap_err()
             .to_string();

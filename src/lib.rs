@@ -9,6 +9,7 @@
 //! Map of the crate, in the one direction its dependencies run:
 //! * [`mesh`], [`quadrature`]: structured meshes of the rectangle and exact triangle rules;
 //! * [`element`]: the C¹ elements (Argyris triangle, reduced FVS quadrilateral);
+//! * [`obstacles`]: where the obstacles constrain the discrete plate (the contact points);
 //! * [`assembly`], [`system`]: dofs, sparse M, K and load, clamp, point evaluation;
 //! * [`backend_choice`], [`budget`]: the linear backend a scene runs on and its memory estimate;
 //! * [`modes`]: natural frequencies and M-orthonormal mode shapes;
@@ -32,6 +33,7 @@ pub mod error;
 pub mod fmi;
 pub mod mesh;
 pub mod modes;
+pub mod obstacles;
 pub mod quadrature;
 pub mod scene;
 pub mod scheme;

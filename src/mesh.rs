@@ -40,6 +40,20 @@ pub struct Mesh {
     pub edges: Vec<[usize; 2]>,
     /// For each cell, the global id of the edge from local vertex k to local vertex k + 1.
     pub cell_edges: Vec<Vec<usize>>,
+    /// The structured grid the mesh was built on, if it was: lets [`Mesh::locate`] test the
+    /// cells around a point only.
+    pub grid: Option<Grid>,
+}
+
+/// The structured grid of a rectangle mesh: (0, Lx) × (0, Ly) in nx × ny cells, cell (i, j)
+/// being cell i + j nx of a quadrilateral mesh, or its two triangles 2(i + j nx) and
+/// 2(i + j nx) + 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    /// [Lx, Ly] (m).
+    pub size: [f64; 2],
+    /// [nx, ny].
+    pub cells: [usize; 2],
 }
 
 impl Mesh {
@@ -88,6 +102,7 @@ impl Mesh {
             cells,
             edges,
             cell_edges,
+            grid: None,
         }
     }
 
@@ -104,7 +119,13 @@ impl Mesh {
                 cells.push(vec![a, c, d]);
             }
         }
-        Mesh::new(vertices, CellShape::Triangle, cells)
+        Mesh {
+            grid: Some(Grid {
+                size: [lx, ly],
+                cells: [nx, ny],
+            }),
+            ..Mesh::new(vertices, CellShape::Triangle, cells)
+        }
     }
 
     /// Structured quadrilateral mesh of (0, lx) × (0, ly) with nx × ny rectangular cells.
@@ -114,7 +135,13 @@ impl Mesh {
         let cells = (0..ny)
             .flat_map(|j| (0..nx).map(move |i| grid_cell(nx, i, j).to_vec()))
             .collect();
-        Mesh::new(vertices, CellShape::Quadrilateral, cells)
+        Mesh {
+            grid: Some(Grid {
+                size: [lx, ly],
+                cells: [nx, ny],
+            }),
+            ..Mesh::new(vertices, CellShape::Quadrilateral, cells)
+        }
     }
 
     /// Coordinates of the vertices of cell `c`, in its counter-clockwise order.
@@ -130,26 +157,49 @@ impl Mesh {
             .fold(0.0, f64::max)
     }
 
-    /// A cell that contains point `p` (boundary included, with a tolerance relative to the cell
-    /// size), or `None` when `p` lies outside the mesh.
+    /// The cell of least id that contains point `p` (boundary included, with a tolerance
+    /// relative to the cell size), or `None` when `p` lies outside the mesh. On a structured
+    /// mesh only the cells of the grid cells around `p` are tested, which hold every cell that
+    /// contains it, so the answer is the same as testing them all.
     pub fn locate(&self, p: [f64; 2]) -> Option<usize> {
-        (0..self.cells.len()).find(|&c| {
-            let xs = self.cell_coordinates(c);
-            let n = xs.len();
-            let scale = (0..n)
-                .map(|k| distance(xs[k], xs[(k + 1) % n]))
-                .fold(0.0, f64::max);
-            // A convex cell contains p when p is left of (or on) every counter-clockwise edge.
-            (0..n).all(|k| {
-                let (a, b) = (xs[k], xs[(k + 1) % n]);
-                let cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-                cross >= -1e-12 * scale * scale
-            })
+        match self.grid {
+            Some(grid) => {
+                let per_cell = self.cells.len() / (grid.cells[0] * grid.cells[1]);
+                let near = |k: usize| {
+                    let t = p[k] / grid.size[k] * grid.cells[k] as f64;
+                    let index = t.floor().clamp(0.0, (grid.cells[k] - 1) as f64) as usize;
+                    index.saturating_sub(1)..(index + 2).min(grid.cells[k])
+                };
+                let mut candidates: Vec<usize> = near(1)
+                    .flat_map(|j| near(0).map(move |i| i + j * grid.cells[0]))
+                    .flat_map(|cell| (0..per_cell).map(move |k| per_cell * cell + k))
+                    .collect();
+                candidates.sort_unstable();
+                candidates.into_iter().find(|&c| self.contains(c, p))
+            }
+            None => (0..self.cells.len()).find(|&c| self.contains(c, p)),
+        }
+    }
+
+    /// Whether cell `c` contains `p`, boundary included to 1e-12 of its size squared.
+    fn contains(&self, c: usize, p: [f64; 2]) -> bool {
+        let xs = self.cell_coordinates(c);
+        let n = xs.len();
+        let scale = (0..n)
+            .map(|k| distance(xs[k], xs[(k + 1) % n]))
+            .fold(0.0, f64::max);
+        // A convex cell contains p when p is left of (or on) every counter-clockwise edge.
+        (0..n).all(|k| {
+            let (a, b) = (xs[k], xs[(k + 1) % n]);
+            let cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+            cross >= -1e-12 * scale * scale
         })
     }
 }
 
-fn grid_vertices(lx: f64, ly: f64, nx: usize, ny: usize) -> Vec<[f64; 2]> {
+/// The vertices of the structured nx × ny grid of (0, lx) × (0, ly), vertex (i, j) at index
+/// i + j (nx + 1): the vertices of [`Mesh::rectangle_triangles`] and [`Mesh::rectangle_quads`].
+pub fn grid_vertices(lx: f64, ly: f64, nx: usize, ny: usize) -> Vec<[f64; 2]> {
     assert!(
         nx >= 1 && ny >= 1,
         "a structured mesh needs at least one cell each way"
@@ -224,5 +274,26 @@ mod tests {
         assert_eq!(mesh.locate([0.35, 0.15]), Some(7));
         assert!(mesh.locate([0.4, 0.2]).is_some());
         assert!(mesh.locate([0.41, 0.1]).is_none());
+    }
+
+    /// The grid's shortcut finds the cell the full scan finds, on cell boundaries too.
+    #[test]
+    fn locate_on_a_grid_agrees_with_the_full_scan() {
+        for mesh in [
+            Mesh::rectangle_triangles(0.4, 0.2, 5, 3),
+            Mesh::rectangle_quads(0.4, 0.2, 5, 3),
+        ] {
+            let scan = Mesh {
+                grid: None,
+                ..mesh.clone()
+            };
+            for i in 0..=20 {
+                for j in 0..=12 {
+                    let p = [0.4 * i as f64 / 20.0, 0.2 * j as f64 / 12.0];
+                    assert_eq!(mesh.locate(p), scan.locate(p), "{p:?}");
+                }
+            }
+            assert_eq!(mesh.locate([0.45, 0.1]), None);
+        }
     }
 }

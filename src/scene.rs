@@ -10,9 +10,15 @@ use crate::error::Error;
 use serde::{Deserialize, Serialize};
 
 pub mod bounds;
+pub mod clamp;
+pub mod profile;
+pub mod text;
 pub use bounds::{Bound, Limit, BOUNDS};
+pub use clamp::{Clamp, ClampedEdges, Side};
+pub use profile::{Profile, Stop, StopShape};
 
-/// Plate geometry (m). The span `length` runs from the clamped edge x = 0 to the free edge x = Lx.
+/// Plate geometry (m) and where it is clamped. With the default clamp the span `length` runs
+/// from the clamped edge x = 0 to the free edge x = Lx.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Plate {
@@ -22,7 +28,31 @@ pub struct Plate {
     pub width: f64,
     /// Full thickness e (m), default 0.01.
     pub thickness: f64,
+    /// The clamped part Γc of the edge ([`clamp`]'s grammar), default `xmin` (the edge x = 0).
+    #[serde(default = "default_clamp")]
+    pub clamp: String,
 }
+
+fn default_clamp() -> String {
+    "xmin".to_string()
+}
+
+fn default_profile() -> String {
+    "flat".to_string()
+}
+
+/// A point of the plate where the FMU reports the deflection and its velocity (`probe1.x`, …).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Probe {
+    /// x (m), default 0.
+    pub x: f64,
+    /// y (m), default 0.
+    pub y: f64,
+}
+
+/// Number of probe points (`probe1` … `probe4`).
+pub const PROBES: usize = 4;
 
 /// Homogeneous isotropic material.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -115,7 +145,8 @@ fn default_linear() -> LinearChoice {
     LinearChoice::Auto
 }
 
-/// The two rigid flat obstacles g1 ≤ u ≤ g2 (`docs/model.md` §5).
+/// The two rigid obstacles g1(x) ≤ u ≤ g2(x) (`docs/model.md` §5): each a tunable level and a
+/// profile of heights relative to it ([`profile`]), flat by default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Obstacles {
@@ -123,10 +154,16 @@ pub struct Obstacles {
     pub lower_enabled: bool,
     /// Whether the upper obstacle exists.
     pub upper_enabled: bool,
-    /// g1 (m), < 0, default −0.01.
+    /// g1 (m), < 0, default −0.01: the lower obstacle's level (its profile's heights add to it).
     pub lower: f64,
-    /// g2 (m), > 0, default 0.01.
+    /// g2 (m), > 0, default 0.01: the upper obstacle's level.
     pub upper: f64,
+    /// The lower obstacle's profile ([`profile`]'s grammar), default `flat`.
+    #[serde(default = "default_profile")]
+    pub lower_profile: String,
+    /// The upper obstacle's profile, default `flat`.
+    #[serde(default = "default_profile")]
+    pub upper_profile: String,
 }
 
 /// One of the two obstacles.
@@ -139,11 +176,23 @@ pub enum ObstacleSide {
 }
 
 impl ObstacleSide {
+    /// Both sides, lower first.
+    pub const BOTH: [ObstacleSide; 2] = [ObstacleSide::Lower, ObstacleSide::Upper];
+
     /// The obstacle's parameter name, `obstacle.lower` or `obstacle.upper`.
     pub fn parameter(self) -> &'static str {
         match self {
             ObstacleSide::Lower => "obstacle.lower",
             ObstacleSide::Upper => "obstacle.upper",
+        }
+    }
+
+    /// The parameter of the obstacle's profile, `obstacle.lower_profile` or
+    /// `obstacle.upper_profile`.
+    pub fn profile_parameter(self) -> &'static str {
+        match self {
+            ObstacleSide::Lower => "obstacle.lower_profile",
+            ObstacleSide::Upper => "obstacle.upper_profile",
         }
     }
 }
@@ -161,12 +210,17 @@ pub struct Outside {
     pub value: f64,
 }
 
-/// Transverse pressure during the motion.
+/// Transverse pressure during the motion, and gravity.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Load {
     /// p (Pa), positive upwards, default 0.
     pub pressure: f64,
+    /// The acceleration of gravity (m/s², ≥ 0, acting in −z), default 0 (no gravity, the paper's
+    /// model): the plate's weight ρe·g per unit area adds to the pressure as −ρe·g, in the
+    /// preload's static equilibrium (the initial state is the sag) and during the motion.
+    #[serde(default)]
+    pub gravity: f64,
 }
 
 /// Initial state: static equilibrium under a preload, released at rest.
@@ -378,6 +432,18 @@ pub struct Scene {
     /// Damping; absent from a scene file (or any of its fields) means none.
     #[serde(default)]
     pub damping: Damping,
+    /// Probe points, each at (0, 0) unless placed.
+    #[serde(default)]
+    pub probe1: Probe,
+    /// The second probe.
+    #[serde(default)]
+    pub probe2: Probe,
+    /// The third probe.
+    #[serde(default)]
+    pub probe3: Probe,
+    /// The fourth probe.
+    #[serde(default)]
+    pub probe4: Probe,
     /// Horizon (s) used by examples and as the FMU's default stop time.
     pub stop_time: f64,
 }
@@ -391,6 +457,7 @@ impl Default for Scene {
                 length: 0.4,
                 width: 0.2,
                 thickness: 0.01,
+                clamp: default_clamp(),
             },
             material: Material {
                 young_modulus: 2.1e11,
@@ -414,8 +481,13 @@ impl Default for Scene {
                 upper_enabled: true,
                 lower: -0.01,
                 upper: 0.01,
+                lower_profile: default_profile(),
+                upper_profile: default_profile(),
             },
-            load: Load { pressure: 0.0 },
+            load: Load {
+                pressure: 0.0,
+                gravity: 0.0,
+            },
             initial: Initial {
                 preload_pressure: 0.0,
             },
@@ -424,6 +496,10 @@ impl Default for Scene {
                 frequency: 10.0,
             },
             damping: Damping::default(),
+            probe1: Probe::default(),
+            probe2: Probe::default(),
+            probe3: Probe::default(),
+            probe4: Probe::default(),
             stop_time: 1.0,
         }
     }
@@ -555,28 +631,60 @@ impl Scene {
         s
     }
 
-    /// The length that scales the obstacle tolerances (m): g2 − g1 with both obstacles, |g| with
-    /// one (its distance from the plate's starting level u = 0, which [`Scene::validate`] keeps
-    /// > 0), and 1 m without any.
+    /// The length that scales the obstacle tolerances (m): the room the plate at rest has, from
+    /// u = 0 to the nearest point of each enabled obstacle, summed over both (g2 − g1 for flat
+    /// obstacles), that of the one with one obstacle, and 1 m without any ([`Scene::validate`]
+    /// keeps it > 0). A profile that does not parse counts as flat: the scene is then invalid,
+    /// and its validation says why.
     pub fn gap(&self) -> f64 {
-        match (self.lower_obstacle(), self.upper_obstacle()) {
-            (Some(g1), Some(g2)) => g2 - g1,
-            (Some(g), None) | (None, Some(g)) => g.abs(),
-            (None, None) => 1.0,
+        self.gap_from(self.nearest_heights())
+    }
+
+    /// [`Scene::gap`] from the profiles' heights nearest to the plate at rest,
+    /// [`Scene::nearest_heights`], which a run computes once (only the levels are tunable).
+    pub fn gap_from(&self, [lower, upper]: [f64; 2]) -> f64 {
+        let room = [
+            self.lower_obstacle().map(|g| -(g + lower)),
+            self.upper_obstacle().map(|g| g + upper),
+        ];
+        match room {
+            [Some(a), Some(b)] => a + b,
+            [Some(a), None] | [None, Some(a)] => a,
+            [None, None] => 1.0,
         }
     }
 
-    /// The first of the displacements `u` (m, absolute: base plus plate) that lies past an enabled
-    /// obstacle by more than `tolerance` (m): u_i < g1 − tolerance or u_i > g2 + tolerance. The
-    /// one test of "a vertex outside the obstacles" shared by the stepper, the simulation and the
-    /// FMU; `tolerance` is theirs to choose, usually a fraction of [`Scene::gap`].
-    pub fn first_outside(&self, u: &[f64], tolerance: f64) -> Option<Outside> {
+    /// Per side, the height of its profile nearest to the plate at rest anywhere on the plate
+    /// ([`Profile::nearest`]): 0 for a flat obstacle, and for a profile that does not parse
+    /// (the scene is then invalid, and its validation says why).
+    pub fn nearest_heights(&self) -> [f64; 2] {
+        ObstacleSide::BOTH.map(|side| {
+            self.profile(side)
+                .map_or(0.0, |p| p.nearest(side, self.size()).0)
+        })
+    }
+
+    /// The first of the displacements `u` (m, absolute: base plus plate) at contact points whose
+    /// obstacle heights are `heights` = [h₁, h₂] (relative to the levels; −∞ and +∞ where an
+    /// obstacle is absent) that lies past an enabled obstacle by more than `tolerance` (m):
+    /// u_i < g1 + h₁_i − tolerance or u_i > g2 + h₂_i + tolerance. The one test of "a point outside
+    /// the obstacles" shared by the stepper, the simulation and the FMU; `tolerance` is theirs to
+    /// choose, usually a fraction of [`Scene::gap`]. With flat obstacles (every height 0) the
+    /// levels are g1 and g2 bit for bit.
+    pub fn first_outside(
+        &self,
+        u: &[f64],
+        [lower_heights, upper_heights]: [&[f64]; 2],
+        tolerance: f64,
+    ) -> Option<Outside> {
         let (lower, upper) = (self.lower_obstacle(), self.upper_obstacle());
         u.iter().enumerate().find_map(|(index, &value)| {
             let below = lower
+                .map(|g| g + lower_heights[index])
                 .filter(|&g| value < g - tolerance)
                 .map(|level| (ObstacleSide::Lower, level));
             let above = upper
+                .map(|g| g + upper_heights[index])
                 .filter(|&g| value > g + tolerance)
                 .map(|level| (ObstacleSide::Upper, level));
             below.or(above).map(|(obstacle, level)| Outside {
@@ -586,6 +694,95 @@ impl Scene {
                 value,
             })
         })
+    }
+
+    /// [Lx, Ly] (m).
+    pub fn size(&self) -> [f64; 2] {
+        [self.plate.length, self.plate.width]
+    }
+
+    /// The clamped part of the edge, parsed from `plate.clamp`.
+    pub fn clamp(&self) -> Result<Clamp, Error> {
+        Clamp::parse(&self.plate.clamp, self.size())
+    }
+
+    /// The clamp on the scene's mesh ([`Clamp::on_mesh`]): an error when it is empty there.
+    pub fn clamped_edges(&self) -> Result<ClampedEdges, Error> {
+        self.clamp()?
+            .on_mesh(self.size(), [self.mesh.nx, self.mesh.ny])
+    }
+
+    /// The profile of one obstacle, parsed from `obstacle.lower_profile` or
+    /// `obstacle.upper_profile`.
+    pub fn profile(&self, side: ObstacleSide) -> Result<Profile, Error> {
+        let text = match side {
+            ObstacleSide::Lower => &self.obstacle.lower_profile,
+            ObstacleSide::Upper => &self.obstacle.upper_profile,
+        };
+        Profile::parse(text, side.profile_parameter(), self.size())
+    }
+
+    /// Whether both profiles are `flat`: the obstacles of the paper and of every scene before
+    /// profiles existed.
+    pub fn has_flat_obstacles(&self) -> bool {
+        ObstacleSide::BOTH
+            .into_iter()
+            .all(|side| matches!(self.profile(side), Ok(Profile::Flat)))
+    }
+
+    /// The level of an enabled obstacle (`obstacle.lower` or `obstacle.upper`), `None` when it is
+    /// disabled.
+    pub fn level(&self, side: ObstacleSide) -> Option<f64> {
+        match side {
+            ObstacleSide::Lower => self.lower_obstacle(),
+            ObstacleSide::Upper => self.upper_obstacle(),
+        }
+    }
+
+    /// The probe points, in order.
+    pub fn probes(&self) -> [Probe; PROBES] {
+        [self.probe1, self.probe2, self.probe3, self.probe4]
+    }
+
+    /// The weight of the plate per unit area, ρe·g (Pa), which acts as the pressure −ρe·g
+    /// (`load.gravity`, 0 by default).
+    pub fn weight_pressure(&self) -> f64 {
+        self.areal_mass() * self.load.gravity
+    }
+
+    /// The pressure that acts during the motion: `load.pressure` less the weight, p − ρe·g (Pa);
+    /// `load.pressure` bit for bit without gravity.
+    pub fn acting_pressure(&self) -> f64 {
+        self.load.pressure - self.weight_pressure()
+    }
+
+    /// The pressure whose static equilibrium is the initial state: `initial.preload_pressure`
+    /// less the weight, p₀ − ρe·g (Pa), so that with gravity the plate starts at rest in its sag.
+    pub fn acting_preload_pressure(&self) -> f64 {
+        self.initial.preload_pressure - self.weight_pressure()
+    }
+
+    /// The heights (relative to the levels) of each enabled obstacle nearest to the plate's rest
+    /// position over the clamped part of the edge on the scene's mesh: the base must stay
+    /// strictly between g1 + h₁ and g2 + h₂ there. `None` for an obstacle that is disabled or lies
+    /// over no clamped point. For flat obstacles both are 0.
+    pub fn clamp_heights(&self) -> Result<[Option<f64>; 2], Error> {
+        let segments = self.clamped_edges()?.segments();
+        let tolerance = 1e-9 * self.cell_size();
+        let mut heights = [None, None];
+        for (k, side) in ObstacleSide::BOTH.into_iter().enumerate() {
+            if self.level(side).is_some() {
+                heights[k] =
+                    self.profile(side)?
+                        .nearest_over(side, &segments, self.size(), tolerance);
+            }
+        }
+        Ok(heights)
+    }
+
+    /// The shorter side of the mesh's cells, min(Lx/nx, Ly/ny) (m).
+    pub fn cell_size(&self) -> f64 {
+        (self.plate.length / self.mesh.nx as f64).min(self.plate.width / self.mesh.ny as f64)
     }
 
     /// Bending stiffness D = E e³ / (12 (1 − ν²)) (N·m).
@@ -630,17 +827,34 @@ impl Scene {
                 &format!("must not exceed the shorter side {shorter_side} m (Kirchhoff–Love is a thin-plate model)"),
             ));
         }
+        self.clamped_edges()?;
+        self.validate_obstacles()?;
+        let [lx, ly] = self.size();
+        for (k, probe) in self.probes().iter().enumerate() {
+            if !((0.0..=lx).contains(&probe.x) && (0.0..=ly).contains(&probe.y)) {
+                return Err(Error::invalid(
+                    &format!("probe{}.x, probe{}.y", k + 1, k + 1),
+                    format!("({}, {})", probe.x, probe.y),
+                    &format!("must lie on the plate [0, {lx}] × [0, {ly}] m"),
+                ));
+            }
+        }
         let c = self.base.amplitude;
-        let half_gap = [self.lower_obstacle().map(|g| -g), self.upper_obstacle()]
-            .into_iter()
-            .flatten()
-            .fold(f64::INFINITY, f64::min);
+        let [lower, upper] = self.clamp_heights()?;
+        let half_gap = [
+            self.lower_obstacle().zip(lower).map(|(g, h)| -(g + h)),
+            self.upper_obstacle().zip(upper).map(|(g, h)| g + h),
+        ]
+        .into_iter()
+        .flatten()
+        .fold(f64::INFINITY, f64::min);
         if c > 0.0 && c >= half_gap {
             return Err(Error::invalid(
                 "base.amplitude",
                 c,
                 &format!(
-                    "must be < {half_gap} m so that the base sine stays strictly inside the gap"
+                    "must be < {half_gap} m so that the base sine stays strictly inside the gap \
+                     over the clamped edge"
                 ),
             ));
         }
@@ -652,6 +866,38 @@ impl Scene {
                 "needs the modal backend (solver.linear = modal or auto): the sparse backend has \
                  no eigenbasis to damp mode by mode",
             ));
+        }
+        Ok(())
+    }
+}
+
+impl Scene {
+    /// Checks both profiles: each parses (on a disabled obstacle too: a bad value is refused
+    /// wherever it is set), and each enabled obstacle lies strictly away from the plate at rest
+    /// everywhere, g1 + h₁ < 0 < g2 + h₂ (the paper's g₁(x) ≤ −g < 0 < g ≤ g₂(x)): a plate that
+    /// starts touching or crossing an obstacle is refused, naming where.
+    fn validate_obstacles(&self) -> Result<(), Error> {
+        for side in ObstacleSide::BOTH {
+            let profile = self.profile(side)?;
+            let Some(level) = self.level(side) else {
+                continue;
+            };
+            let (h, place) = profile.nearest(side, self.size());
+            let at = level + h;
+            let (crosses, relation) = match side {
+                ObstacleSide::Lower => (at >= 0.0, "below"),
+                ObstacleSide::Upper => (at <= 0.0, "above"),
+            };
+            if crosses {
+                return Err(Error::invalid(
+                    &format!("{} and {}", side.parameter(), side.profile_parameter()),
+                    format!("{level} and {h:+} m"),
+                    &format!(
+                        "puts the obstacle at {at} m {place}: it must lie strictly {relation} the \
+                         plate at rest (u = 0) everywhere"
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -830,7 +1076,9 @@ mod tests {
         (s.obstacle.lower, s.obstacle.upper) = (-0.01, 0.03);
         assert_eq!(s.gap(), 0.04);
         let u = [0.0, 0.031, -0.02];
-        let outside = s.first_outside(&u, 1e-6).unwrap();
+        let zeros = [0.0; 3];
+        let flat = [&zeros[..], &zeros[..]];
+        let outside = s.first_outside(&u, flat, 1e-6).unwrap();
         assert_eq!(
             (
                 outside.obstacle,
@@ -840,14 +1088,22 @@ mod tests {
             ),
             (ObstacleSide::Upper, 0.03, 1, 0.031)
         );
-        assert!(s.first_outside(&u, 0.011).is_none(), "within the tolerance");
+        assert!(
+            s.first_outside(&u, flat, 0.011).is_none(),
+            "within the tolerance"
+        );
+        // Heights move each point's levels: 0.031 lies under an upper obstacle 0.002 higher there,
+        // and a lower obstacle absent under the last point leaves it free.
+        let upper = [0.0, 0.002, 0.0];
+        let lower = [0.0, 0.0, f64::NEG_INFINITY];
+        assert!(s.first_outside(&u, [&lower, &upper], 1e-6).is_none());
         s.obstacle.upper_enabled = false;
         assert_eq!(s.gap(), 0.01, "one obstacle: its distance from u = 0");
-        let outside = s.first_outside(&u, 1e-6).unwrap();
+        let outside = s.first_outside(&u, flat, 1e-6).unwrap();
         assert_eq!((outside.obstacle, outside.index), (ObstacleSide::Lower, 2));
         s.obstacle.lower_enabled = false;
         assert_eq!(s.gap(), 1.0);
-        assert!(s.first_outside(&u, 0.0).is_none());
+        assert!(s.first_outside(&u, flat, 0.0).is_none());
     }
 
     #[test]

@@ -1,18 +1,31 @@
-//! The assembled plate of a scene: M, K, the unit load, and the split of the dofs into clamp dofs
-//! (prescribed by the base) and free dofs, with the obstacle-constrained vertices among the latter.
+//! The assembled plate of a scene: M, K, the unit load, the split of the dofs into clamp dofs
+//! (prescribed by the base) and free dofs, and the contact points of the obstacles with their
+//! constraint rows.
 
 use crate::assembly::{Discretization, PointFunctional};
 use crate::element::Jet;
 use crate::error::Error;
 use crate::modes::{generalized_eigen, sparse_restriction, Modes};
-use crate::scene::Scene;
+use crate::obstacles::ObstacleLayout;
+use crate::scene::{ClampedEdges, Scene, PROBES};
 use faer::sparse::SparseColMat;
 
-/// The points whose displacement the FMU reports (`docs/model.md` §7): free corners (Lx, 0),
-/// (Lx, Ly) and the free-edge midpoint (Lx, Ly/2).
-pub fn output_points(scene: &Scene) -> [[f64; 2]; 3] {
+/// The number of points whose displacement the FMU reports: the three of the paper's figures and
+/// the probes.
+pub const OUTPUT_POINTS: usize = 3 + PROBES;
+
+/// The points whose displacement the FMU reports (`docs/model.md` §7): the corners (Lx, 0) and
+/// (Lx, Ly) and the edge midpoint (Lx, Ly/2) (the free corners and free-edge midpoint of the
+/// paper's plate), then the probes.
+pub fn output_points(scene: &Scene) -> [[f64; 2]; OUTPUT_POINTS] {
     let (lx, ly) = (scene.plate.length, scene.plate.width);
-    [[lx, 0.0], [lx, ly], [lx, 0.5 * ly]]
+    let probes = scene.probes();
+    let mut points = [[0.0; 2]; OUTPUT_POINTS];
+    points[..3].copy_from_slice(&[[lx, 0.0], [lx, ly], [lx, 0.5 * ly]]);
+    for (point, probe) in points[3..].iter_mut().zip(probes) {
+        *point = [probe.x, probe.y];
+    }
+    points
 }
 
 /// A plate discretised and assembled in physical units.
@@ -30,12 +43,20 @@ pub struct PlateSystem {
     pub clamp: Vec<usize>,
     /// Free dofs, sorted: every dof not in `clamp`.
     pub free: Vec<usize>,
-    /// Obstacle-constrained value dofs, as indices into `free`.
-    pub constrained: Vec<usize>,
+    /// The clamp on the mesh.
+    pub clamped: ClampedEdges,
+    /// The contact points and the obstacles' heights over them.
+    pub layout: ObstacleLayout,
+    /// The constraint row of each contact point, over the free dofs (indices into `free`): the
+    /// deflection relative to the base there, u(p_i) − z. A mesh vertex's row is its value dof
+    /// with weight 1; another point's is Σ φ_k(p_i) over the free dofs k of its cell (its clamp
+    /// dofs contribute z times the rows' sum over the clamp's value dofs, which with the free
+    /// part's sum is 1: the elements reproduce constants).
+    pub contact_rows: Vec<PointFunctional>,
     /// Dof vector of the rigid translation u ≡ 1 (value dofs 1, derivative dofs 0).
     pub translation: Vec<f64>,
-    /// Functionals u ↦ u(p) at the three [`output_points`].
-    pub outputs: [PointFunctional; 3],
+    /// Functionals u ↦ u(p) at the [`output_points`].
+    pub outputs: [PointFunctional; OUTPUT_POINTS],
 }
 
 impl PlateSystem {
@@ -55,14 +76,27 @@ impl PlateSystem {
             scene.material.poisson_ratio,
         );
         let unit_load = disc.unit_load();
-        let clamp = disc.clamp_dofs();
+        let clamped = scene.clamped_edges()?;
+        let clamp = disc.clamp_dofs(&clamped);
         let free: Vec<usize> = (0..disc.dof_count)
             .filter(|d| clamp.binary_search(d).is_err())
             .collect();
-        let constrained = disc
-            .constrained_value_dofs()
+        let layout = ObstacleLayout::new(scene, &disc.mesh.vertices, &clamped)?;
+        let contact_rows = layout
+            .points
             .iter()
-            .map(|d| free.binary_search(d).expect("constrained dofs are free"))
+            .map(|point| {
+                let row = match point.vertex {
+                    Some(v) => PointFunctional {
+                        dofs: vec![disc.value_dof(v)],
+                        weights: vec![1.0],
+                    },
+                    None => disc
+                        .point_functional(point.position)
+                        .expect("contact points lie on the plate"),
+                };
+                free_row(&row, &free)
+            })
             .collect();
         let translation = disc.interpolate(&|_| Jet {
             value: 1.0,
@@ -79,7 +113,9 @@ impl PlateSystem {
             unit_load,
             clamp,
             free,
-            constrained,
+            clamped,
+            layout,
+            contact_rows,
             translation,
             outputs,
         })
@@ -92,4 +128,25 @@ impl PlateSystem {
             &sparse_restriction(self.stiffness.as_ref(), &self.free),
         )
     }
+}
+
+/// The part of a functional over the free dofs, as indices into `free` (sorted): the clamp
+/// dofs' entries dropped, entries of one free dof summed.
+fn free_row(row: &PointFunctional, free: &[usize]) -> PointFunctional {
+    let mut out = PointFunctional {
+        dofs: Vec::with_capacity(row.dofs.len()),
+        weights: Vec::with_capacity(row.dofs.len()),
+    };
+    for (&d, &w) in row.dofs.iter().zip(&row.weights) {
+        if let Ok(k) = free.binary_search(&d) {
+            match out.dofs.iter().position(|&j| j == k) {
+                Some(at) => out.weights[at] += w,
+                None => {
+                    out.dofs.push(k);
+                    out.weights.push(w);
+                }
+            }
+        }
+    }
+    out
 }

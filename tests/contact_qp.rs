@@ -18,8 +18,8 @@ use plate_impact::contact::clarabel::{
 use plate_impact::contact::eliminated::EliminatedSystem;
 use plate_impact::contact::sparse_contact::{SparseContact, Subproblem};
 use plate_impact::contact::{
-    solve_box_lcp, ActiveSetSolver, BoundState, BoxQp, DelassusCache, DenseDelassus, PdasSettings,
-    PdasStatus, WorkingSetSolver,
+    solve_box_lcp, ActiveSetSolver, BoundState, BoxQp, ContactRows, DelassusCache, DenseDelassus,
+    PdasSettings, PdasStatus, WorkingSetSolver,
 };
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
@@ -39,6 +39,8 @@ const CLARABEL_BOUND: f64 = 1e-13;
 
 /// One random box QP with everything the tests need, dense where that is simplest (n ≤ 300).
 struct Problem {
+    /// The rows that pick the constrained dofs `c`.
+    rows: ContactRows,
     n: usize,
     a: SparseColMat<usize, f64>,
     b: Vec<f64>,
@@ -116,6 +118,7 @@ impl Problem {
             }
         }
         Problem {
+            rows: ContactRows::selection(&c),
             n,
             a,
             b,
@@ -140,7 +143,7 @@ impl Problem {
         BoxQp {
             a: self.a.as_ref(),
             b: &self.b,
-            constrained: &self.c,
+            rows: &self.rows,
             lower: &self.lo,
             upper: &self.hi,
         }
@@ -909,7 +912,7 @@ fn sparse_contact_solves_with_either_subproblem() {
             (Some(Subproblem::Delassus), 8 * m * 3),
             (Some(Subproblem::Eliminated), usize::MAX),
         ] {
-            let mut contact = SparseContact::new(a.clone(), &p.c, budget, None).unwrap();
+            let mut contact = SparseContact::new(a.clone(), &p.rows, budget, None).unwrap();
             if let Some(choice) = choice {
                 contact.force(choice);
             }
@@ -1007,12 +1010,13 @@ fn a_delassus_column_has_the_same_bits_alone_or_in_a_block() {
     let a = Arc::clone(&free.system);
     let order = nested_dissection(&free.nodes);
     let analysis = CholeskyAnalysis::new(a.symbolic(), Some(&order)).unwrap();
-    let mut system = EliminatedSystem::new(Arc::clone(&a), analysis, &free.constrained).unwrap();
-    let (n, m) = (a.nrows(), free.constrained.len());
+    let constrained = free.contact.selected().unwrap();
+    let mut system = EliminatedSystem::new(Arc::clone(&a), analysis, constrained).unwrap();
+    let (n, m) = (a.nrows(), constrained.len());
     let mut solve = |js: &[usize]| -> Mat<f64> {
         let mut block = Mat::<f64>::zeros(n, js.len());
         for (q, &j) in js.iter().enumerate() {
-            block[(free.constrained[j], q)] = 1.0;
+            block[(constrained[j], q)] = 1.0;
         }
         let view: MatMut<'_, f64> = block.as_mut();
         system.solve_unconstrained_unrefined_in_place(view).unwrap();

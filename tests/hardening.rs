@@ -226,7 +226,7 @@ fn a_crafted_state_is_refused_by_field_and_changes_nothing() {
                         *v *= 1e3;
                     }
                 }),
-                "current[vertex",
+                "current[contact point",
             ),
         ];
         if let Some(i) = lower_contact {

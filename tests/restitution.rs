@@ -1098,6 +1098,6 @@ fn a_state_past_an_obstacle_is_refused_for_every_restitution() {
         }
         let err = stepper.restore(&state).unwrap_err().to_string();
         println!("e = {e}: {err}");
-        assert!(err.contains("previous[vertex"), "{err}");
+        assert!(err.contains("previous[contact point"), "{err}");
     }
 }

@@ -5,8 +5,8 @@
 //! exact to round-off (the tolerances alone leave a few 1e-8 m on plate steps).
 //!
 //! Clarabel solves min ½ ξᵀ P ξ + qᵀ ξ subject to G ξ + s = h, s ≥ 0 (a nonnegative cone). Each
-//! finite bound gives one row: x_{c_i} ≤ hi_i is the row e_{c_i}ᵀ with h = hi_i, and x_{c_i} ≥ lo_i
-//! the row −e_{c_i}ᵀ with h = −lo_i; infinite bounds give no row. The problem is first scaled so
+//! finite bound gives one row: B_i x ≤ hi_i is the row B_i with h = hi_i, and B_i x ≥ lo_i the row
+//! −B_i with h = −lo_i; infinite bounds give no row. The problem is first scaled so
 //! that Clarabel's absolute tolerances mean the same thing for every mesh and time step: with
 //! s_x the gap scale (the largest finite |lo_i|, |hi_i|, or 1 if none) and d the largest diagonal
 //! entry of A, x = s_x ξ, P = A / d and q = −b / (s_x d), so ξ, P and the bounds are all of order 1.
@@ -84,11 +84,12 @@ pub fn solve_box_qp(qp: &BoxQp<'_>) -> Result<QpSolution, Error> {
 /// The exact solution of `qp`, found from an approximate active set (Clarabel's), if one is found
 /// within 20 corrections.
 ///
-/// Each round fixes x_{c_i} at its bound for every active i, solves A_FF x_F = b_F − A_FS x_S for
-/// the other unknowns (sparse Cholesky) and sets λ = (A x − b) on the constrained rows. A round
-/// whose inactive constrained values all lie within their bounds and whose λ_i all have the sign of
-/// their bound (both to 1e-12 relative) satisfies the KKT conditions: it is the unique minimiser and
-/// is returned. Otherwise violated bounds join the set and wrong-signed multipliers leave it
+/// Each round puts every active row on its bound, solves for the other unknowns
+/// (the unit rows fix their unknown, the others are equalities solved through their Schur
+/// complement) and forms the multipliers of A x = b + Bᵀλ. A round whose inactive
+/// constrained values all lie within their bounds and whose λ_i all have the sign of their bound
+/// (both to 1e-12 relative) satisfies the KKT conditions: it is the unique minimiser and is
+/// returned. Otherwise violated bounds join the set and wrong-signed multipliers leave it
 /// (Clarabel misclassifies vertices that touch with a vanishing force), and the next round runs.
 pub fn polish(qp: &BoxQp<'_>, states: &[BoundState]) -> Option<QpSolution> {
     let mut states = states.to_vec();
@@ -102,18 +103,32 @@ pub fn polish(qp: &BoxQp<'_>, states: &[BoundState]) -> Option<QpSolution> {
 }
 
 /// One round of [`polish`]: the KKT-certified solution, or the corrected active set.
+///
+/// The active unit rows (a vertex's value, B_i = e_dᵀ) fix their unknown at the bound, and the
+/// others are solved on the reduced system: A_FF x_F = b_F − A_F𝒜 g. Active general rows (a
+/// stop's own point) add the equality B_G x = g_G on the reduced system, solved through its
+/// Schur complement: x_F = x₀ + Y μ with x₀ = A_FF⁻¹(b_F − A_F𝒜 g), Y = A_FF⁻¹ B_{G,F}ᵀ and
+/// (B_{G,F} Y) μ = g_G − B_{G,𝒜} g − B_{G,F} x₀. The multipliers are then λ_G = μ on the general
+/// rows and λ_i = (A x − b)_d − Σ_G μ_j B_{j,d} on a unit row of unknown d.
 fn solve_on_active_set(
     qp: &BoxQp<'_>,
     states: &[BoundState],
 ) -> Option<Result<QpSolution, Vec<BoundState>>> {
     use faer::linalg::solvers::Solve;
     let n = qp.b.len();
+    let bound = |i: usize| match states[i] {
+        BoundState::AtLower => Some(qp.lower[i]),
+        BoundState::AtUpper => Some(qp.upper[i]),
+        BoundState::Free => None,
+    };
     let mut fixed = vec![None; n];
-    for (i, state) in states.iter().enumerate() {
-        match state {
-            BoundState::AtLower => fixed[qp.constrained[i]] = Some(qp.lower[i]),
-            BoundState::AtUpper => fixed[qp.constrained[i]] = Some(qp.upper[i]),
-            BoundState::Free => {}
+    let mut general = Vec::new();
+    for i in 0..states.len() {
+        if let Some(g) = bound(i) {
+            match qp.rows.unit(i) {
+                Some(d) => fixed[d] = Some(g),
+                None => general.push(i),
+            }
         }
     }
     let free: Vec<usize> = (0..n).filter(|&j| fixed[j].is_none()).collect();
@@ -126,23 +141,72 @@ fn solve_on_active_set(
     let reduced = sparse_restriction(a, &free);
     let factor = reduced.sp_cholesky(faer::Side::Lower).ok()?;
     factor.solve_in_place(faer::ColMut::from_slice_mut(&mut rhs).as_mat_mut());
+    let mut mu = vec![0.0; general.len()];
+    if !general.is_empty() {
+        // The general rows over F (positions in `free`), and their targets less the fixed part.
+        let mut position = vec![usize::MAX; n];
+        for (k, &j) in free.iter().enumerate() {
+            position[j] = k;
+        }
+        let mut y = faer::Mat::<f64>::zeros(free.len(), general.len());
+        let mut target = vec![0.0; general.len()];
+        for (q, &i) in general.iter().enumerate() {
+            let (dofs, weights) = qp.rows.row(i);
+            target[q] = bound(i).expect("an active row");
+            for (&d, &w) in dofs.iter().zip(weights) {
+                match fixed[d] {
+                    Some(g) => target[q] -= w * g,
+                    None => {
+                        y[(position[d], q)] += w;
+                        target[q] -= w * rhs[position[d]];
+                    }
+                }
+            }
+        }
+        let rows_on_free = y.clone();
+        factor.solve_in_place(y.as_mut());
+        let schur = rows_on_free.transpose() * &y;
+        let mut mu_col = faer::Col::from_fn(general.len(), |q| target[q]);
+        schur
+            .llt(faer::Side::Lower)
+            .ok()?
+            .solve_in_place(mu_col.as_mat_mut());
+        for q in 0..general.len() {
+            mu[q] = mu_col[q];
+            for (k, r) in rhs.iter_mut().enumerate() {
+                *r += y[(k, q)] * mu[q];
+            }
+        }
+    }
     for (k, &j) in free.iter().enumerate() {
         x[j] = rhs[k];
     }
-    // λ on the constrained rows: (A x − b)_c.
+    // λ on the constrained rows: (A x − b) less the general rows' share, at each unit row's
+    // unknown; μ on the general rows.
     let mut residual: Vec<f64> = qp.b.iter().map(|b| -b).collect();
     add_product(a, &x, 1.0, &mut residual);
+    for (q, &i) in general.iter().enumerate() {
+        qp.rows.add_row(i, -mu[q], &mut residual);
+    }
     let scale_x = qp
         .lower
         .iter()
         .chain(qp.upper)
         .filter(|v| v.is_finite())
         .fold(1e-300, |s: f64, v| s.max(v.abs()));
-    let scale_lambda = residual.iter().fold(1e-300, |s: f64, v| s.max(v.abs()));
+    let scale_lambda = residual
+        .iter()
+        .chain(&mu)
+        .fold(1e-300, |s: f64, v| s.max(v.abs()));
     let mut lambda = vec![0.0; states.len()];
     let mut corrected = states.to_vec();
     for (i, state) in states.iter().enumerate() {
-        let (xi, li) = (x[qp.constrained[i]], residual[qp.constrained[i]]);
+        let xi = qp.rows.value(i, &x);
+        let li = match (qp.rows.unit(i), general.iter().position(|&j| j == i)) {
+            (_, Some(q)) => mu[q],
+            (Some(d), None) => residual[d],
+            (None, None) => 0.0,
+        };
         corrected[i] = match state {
             BoundState::Free if xi < qp.lower[i] - 1e-12 * scale_x => BoundState::AtLower,
             BoundState::Free if xi > qp.upper[i] + 1e-12 * scale_x => BoundState::AtUpper,
@@ -217,7 +281,7 @@ pub fn solve_box_qp_with(
 /// |bound| (1 when there is none or all are 0).
 fn bound_scale(qp: &BoxQp<'_>) -> Result<f64, Error> {
     let n = qp.b.len();
-    let m = qp.constrained.len();
+    let m = qp.rows.len();
     if qp.a.nrows() != n || qp.a.ncols() != n {
         return Err(Error::ContactSolver(format!(
             "clarabel: A is {} × {} but b has length {n}",
@@ -227,7 +291,7 @@ fn bound_scale(qp: &BoxQp<'_>) -> Result<f64, Error> {
     }
     if qp.lower.len() != m || qp.upper.len() != m {
         return Err(Error::ContactSolver(format!(
-            "clarabel: {m} constrained dofs but {} lower and {} upper bounds",
+            "clarabel: {m} constraint rows but {} lower and {} upper bounds",
             qp.lower.len(),
             qp.upper.len()
         )));
@@ -235,10 +299,15 @@ fn bound_scale(qp: &BoxQp<'_>) -> Result<f64, Error> {
     let mut scale_x = 0.0_f64;
     for i in 0..m {
         let (lo, hi) = (qp.lower[i], qp.upper[i]);
-        if qp.constrained[i] >= n || lo.is_nan() || hi.is_nan() || lo > hi {
+        let (dofs, weights) = qp.rows.row(i);
+        if dofs.iter().any(|&d| d >= n)
+            || weights.iter().any(|w| !w.is_finite())
+            || lo.is_nan()
+            || hi.is_nan()
+            || lo > hi
+        {
             return Err(Error::ContactSolver(format!(
-                "clarabel: constraint {i} on dof {} has bounds [{lo}, {hi}]",
-                qp.constrained[i]
+                "clarabel: constraint {i} on unknowns {dofs:?} has bounds [{lo}, {hi}]"
             )));
         }
         for v in [lo, hi] {
@@ -302,8 +371,8 @@ impl ScaledObjective {
     }
 }
 
-/// The bounds of the scaled problem as the rows Gx ≤ h, one per finite bound (x_c ≤ hi/s and
-/// −x_c ≤ −lo/s), and which row belongs to which constrained index.
+/// The bounds of the scaled problem as the rows Gx ≤ h, one per finite bound (B_i x ≤ hi/s and
+/// −B_i x ≤ −lo/s), and which row belongs to which constrained index.
 struct BoundRows {
     g: CscMatrix<f64>,
     h: Vec<f64>,
@@ -315,7 +384,7 @@ struct BoundRows {
 
 impl BoundRows {
     fn new(qp: &BoxQp<'_>, scale_x: f64) -> BoundRows {
-        let m = qp.constrained.len();
+        let m = qp.rows.len();
         let mut triplets_i = Vec::new();
         let mut triplets_j = Vec::new();
         let mut triplets_v = Vec::new();
@@ -323,20 +392,20 @@ impl BoundRows {
         let mut upper_row = vec![usize::MAX; m];
         let mut lower_row = vec![usize::MAX; m];
         for i in 0..m {
-            let c = qp.constrained[i];
-            if qp.upper[i].is_finite() {
-                upper_row[i] = h.len();
-                triplets_i.push(h.len());
-                triplets_j.push(c);
-                triplets_v.push(1.0);
-                h.push(qp.upper[i] / scale_x);
-            }
-            if qp.lower[i].is_finite() {
-                lower_row[i] = h.len();
-                triplets_i.push(h.len());
-                triplets_j.push(c);
-                triplets_v.push(-1.0);
-                h.push(-qp.lower[i] / scale_x);
+            let (dofs, weights) = qp.rows.row(i);
+            for (slot, bound, sign) in [
+                (&mut upper_row[i], qp.upper[i], 1.0),
+                (&mut lower_row[i], qp.lower[i], -1.0),
+            ] {
+                if bound.is_finite() {
+                    *slot = h.len();
+                    for (&d, &w) in dofs.iter().zip(weights) {
+                        triplets_i.push(h.len());
+                        triplets_j.push(d);
+                        triplets_v.push(sign * w);
+                    }
+                    h.push(sign * bound / scale_x);
+                }
             }
         }
         let g =

@@ -1,14 +1,15 @@
-//! The contact problem of one time step (docs/scheme.md): a strictly convex QP with bounds on a subset of
-//! the unknowns,
+//! The contact problem of one time step (docs/scheme.md): a strictly convex QP with bounds on m
+//! linear values of the unknowns,
 //!
-//! min ½ xᵀ A x − bᵀ x   subject to   lo_i ≤ x_{c_i} ≤ hi_i   (i = 0..m),
+//! min ½ xᵀ A x − bᵀ x   subject to   lo_i ≤ B_i x ≤ hi_i   (i = 0..m),
 //!
-//! with A sparse symmetric positive definite, c the constrained dofs (the plate vertices off the
-//! clamp), and any lo_i = −∞ or hi_i = +∞ (an absent obstacle). With B the m × n matrix that picks
-//! the rows c, the KKT conditions read
+//! with A sparse symmetric positive definite, B the rows of the contact points ([`rows`]: at a
+//! mesh vertex the row picks its value dof, so that the constraints are bounds on those
+//! unknowns; at a stop's own point the row is the element's basis there), and any lo_i = −∞ or
+//! hi_i = +∞ (an absent obstacle). The KKT conditions read
 //!
-//! A x = b + Bᵀ λ,  λ_i ≥ 0 where x_{c_i} = lo_i (the lower obstacle pushes up),
-//! λ_i ≤ 0 where x_{c_i} = hi_i, λ_i = 0 where lo_i < x_{c_i} < hi_i.
+//! A x = b + Bᵀ λ,  λ_i ≥ 0 where B_i x = lo_i (the lower obstacle pushes up),
+//! λ_i ≤ 0 where B_i x = hi_i, λ_i = 0 where lo_i < B_i x < hi_i.
 //!
 //! Two solvers, one exact each:
 //! * [`active_set`]: the fast path, in the Delassus space y = B x. Given the unconstrained solution
@@ -32,6 +33,7 @@ pub mod clarabel;
 pub mod delassus;
 pub mod eliminated;
 pub mod ordering;
+pub mod rows;
 pub mod sparse_contact;
 
 pub use active_set::{
@@ -39,6 +41,7 @@ pub use active_set::{
     PdasStatus, WorkingSetSolver,
 };
 pub use delassus::{Delassus, DelassusCache, DenseDelassus};
+pub use rows::ContactRows;
 
 use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::SparseColMatRef;
@@ -77,15 +80,15 @@ impl BoundState {
 }
 
 /// A box-constrained QP in the primal variables: min ½ xᵀ A x − bᵀ x subject to
-/// `lower[i] ≤ x[constrained[i]] ≤ upper[i]` (see the module docs).
+/// `lower[i] ≤ B_i x ≤ upper[i]` (see the module docs).
 #[derive(Clone, Copy, Debug)]
 pub struct BoxQp<'a> {
     /// A, n × n, symmetric positive definite, both triangles stored.
     pub a: SparseColMatRef<'a, usize, f64>,
     /// b, length n.
     pub b: &'a [f64],
-    /// The constrained dofs c, length m, distinct, each < n.
-    pub constrained: &'a [usize],
+    /// The rows B, m of them over unknowns < n, linearly independent.
+    pub rows: &'a ContactRows,
     /// lo, length m; `f64::NEG_INFINITY` for no lower bound.
     pub lower: &'a [f64],
     /// hi, length m; `f64::INFINITY` for no upper bound.

@@ -11,12 +11,14 @@
 //! warm start has at most [`SparseContact::delassus_limit`] active indices (min(m/4, 1 000)) is
 //! solved on W, a larger one by elimination; so is a cold start (no warm start) whose
 //! unconstrained step leaves the box at more vertices than that limit (see docs/contact.md for
-//! the measurements behind the rule). Either way the answer is the QP's exact minimiser.
+//! the measurements behind the rule). Either way the answer is the QP's exact minimiser. The
+//! elimination fixes unknowns, so it needs every row of B to pick one (the contact points all
+//! mesh vertices); with a stop's own point among the rows every step is solved on W.
 
 use super::cholesky::CholeskyAnalysis;
 use super::delassus::{ColumnSource, DelassusCache};
 use super::eliminated::EliminatedSystem;
-use super::{ActiveSetSolver, BoundState, PdasReport, PdasSettings};
+use super::{ActiveSetSolver, BoundState, ContactRows, PdasReport, PdasSettings};
 use crate::Error;
 use faer::sparse::SparseColMat;
 use faer::Mat;
@@ -40,25 +42,38 @@ pub fn delassus_limit(m: usize) -> usize {
 /// 1e-12 m the steps are held to); the refinement would double the cost of every column.
 pub struct InverseColumns {
     system: EliminatedSystem,
+    rows: ContactRows,
     block: Mat<f64>,
 }
 
 impl ColumnSource for InverseColumns {
     fn columns(&mut self, js: &[usize], out: &mut [f64]) {
         let n = self.system.x().len();
-        let m = self.system.constrained().len();
+        let m = self.rows.len();
         self.block.resize_with(n, js.len(), |_, _| 0.0);
         self.block.fill(0.0);
         for (q, &j) in js.iter().enumerate() {
-            self.block[(self.system.constrained()[j], q)] = 1.0;
+            self.rows.add_row(
+                j,
+                1.0,
+                self.block
+                    .col_mut(q)
+                    .try_as_col_major_mut()
+                    .expect("a column")
+                    .as_slice_mut(),
+            );
         }
         self.system
             .solve_unconstrained_unrefined_in_place(self.block.as_mut())
             .expect("A was factored at construction and the factor is kept");
         for (q, column) in out.chunks_mut(m).enumerate() {
-            for (o, &c) in column.iter_mut().zip(self.system.constrained()) {
-                *o = self.block[(c, q)];
-            }
+            let solved = self
+                .block
+                .col(q)
+                .try_as_col_major()
+                .expect("a column")
+                .as_slice();
+            self.rows.values(solved, column);
         }
     }
 }
@@ -77,8 +92,8 @@ pub struct SparseContact {
     delassus: DelassusCache<InverseColumns>,
     /// The primal elimination, made on its first use.
     eliminated: Option<EliminatedSystem>,
-    /// The constrained dofs.
-    constrained: Vec<usize>,
+    /// The rows B.
+    rows: ContactRows,
     pdas: ActiveSetSolver,
     limit: usize,
     forced: Option<Subproblem>,
@@ -88,20 +103,22 @@ pub struct SparseContact {
 }
 
 impl SparseContact {
-    /// For A (n × n, SPD, both triangles) and the `constrained` dofs, with Delassus columns kept
-    /// within `budget_bytes`. Runs the symbolic analysis of A's pattern (with faer's minimum
-    /// degree ordering and `proposed_ordering` if given, keeping the one of less fill, see
-    /// [`CholeskyAnalysis::new`]) and one numeric factorisation.
+    /// For A (n × n, SPD, both triangles) and the rows B, with Delassus columns kept within
+    /// `budget_bytes`. Runs the symbolic analysis of A's pattern (with faer's minimum degree
+    /// ordering and `proposed_ordering` if given, keeping the one of less fill, see
+    /// [`CholeskyAnalysis::new`]) and one numeric factorisation. The elimination is offered only
+    /// when every row picks one unknown (module docs).
     pub fn new(
         a: Arc<SparseColMat<usize, f64>>,
-        constrained: &[usize],
+        rows: &ContactRows,
         budget_bytes: usize,
         proposed_ordering: Option<&[usize]>,
     ) -> Result<SparseContact, Error> {
         let analysis = CholeskyAnalysis::new(a.symbolic(), proposed_ordering)?;
-        let mut system = EliminatedSystem::new(a, analysis, constrained)?;
+        let selected = rows.selected();
+        let mut system = EliminatedSystem::new(a, analysis, selected.unwrap_or(&[]))?;
         system.factor_unconstrained()?;
-        let m = constrained.len();
+        let m = rows.len();
         let n = system.x().len();
         Ok(SparseContact {
             delassus: DelassusCache::new(
@@ -109,13 +126,18 @@ impl SparseContact {
                 budget_bytes,
                 InverseColumns {
                     system,
+                    rows: rows.clone(),
                     block: Mat::zeros(n, 0),
                 },
             ),
             eliminated: None,
-            constrained: constrained.to_vec(),
+            rows: rows.clone(),
             pdas: ActiveSetSolver::new(),
-            limit: delassus_limit(m),
+            limit: if selected.is_some() {
+                delassus_limit(m)
+            } else {
+                usize::MAX
+            },
             forced: None,
             last: Subproblem::Delassus,
             y_star: vec![0.0; m],
@@ -123,8 +145,16 @@ impl SparseContact {
         })
     }
 
-    /// Always use `choice` instead of the rule (for comparisons).
+    /// Always use `choice` instead of the rule (for comparisons). The elimination needs rows
+    /// that each pick one unknown.
+    ///
+    /// # Panics
+    /// When `choice` is the elimination and a row is general (a programming error).
     pub fn force(&mut self, choice: Subproblem) {
+        assert!(
+            choice == Subproblem::Delassus || self.rows.selected().is_some(),
+            "the elimination needs unit rows"
+        );
         self.forced = Some(choice);
     }
 
@@ -139,7 +169,7 @@ impl SparseContact {
         self.delassus.source_mut().system.solve_unconstrained(b, x)
     }
 
-    /// Solves the QP min ½ xᵀAx − bᵀx over lower ≤ x_c ≤ upper, from its unconstrained minimiser
+    /// Solves the QP min ½ xᵀAx − bᵀx over lower ≤ Bx ≤ upper, from its unconstrained minimiser
     /// `x_star` = A⁻¹b, warm-started from `states` (updated), into `x`. The result is the exact
     /// minimiser when the report's status [is solved](super::PdasStatus::is_solved); else the
     /// caller falls back (to clarabel).
@@ -154,10 +184,7 @@ impl SparseContact {
         settings: &PdasSettings,
         x: &mut [f64],
     ) -> Result<PdasReport, Error> {
-        let constrained = &self.constrained;
-        for (y, &c) in self.y_star.iter_mut().zip(constrained) {
-            *y = x_star[c];
-        }
+        self.rows.values(x_star, &mut self.y_star);
         // Elimination when the warm start is large, or on a cold start when many values lie
         // outside the box. The rule reads the step's data only, not what the cache holds: the
         // path, hence the round-off, of a step must not depend on the steps before it (a restored
@@ -187,9 +214,7 @@ impl SparseContact {
                 );
                 if report.status.is_solved() {
                     self.rhs.copy_from_slice(b);
-                    for (&c, &l) in constrained.iter().zip(self.pdas.lambda()) {
-                        self.rhs[c] += l;
-                    }
+                    self.rows.add_transpose(self.pdas.lambda(), &mut self.rhs);
                     self.solve_unconstrained_into(x)?;
                 }
                 report

@@ -8,6 +8,7 @@
 //! per vector, without ever forming the n × n product.
 
 use super::large::FactoredShapes;
+use crate::contact::ContactRows;
 use faer::{Col, ColRef, Mat};
 
 /// The mode shapes (module docs).
@@ -87,6 +88,36 @@ impl ModeShapes {
                 Mat::from_fn(dofs.len(), shapes.ncols(), |i, k| shapes[(dofs[i], k)])
             }
             Kind::Factored(f) => f.rows(dofs),
+        }
+    }
+
+    /// BΦ for the constraint rows B (m × modes): row i holds every mode's value at contact point
+    /// i. Rows that all pick one dof are [`Self::rows`] of those dofs, bit for bit; a general row
+    /// is its weighted sum of rows of Φ.
+    pub fn rows_of(&self, rows: &ContactRows) -> Mat<f64> {
+        if let Some(dofs) = rows.selected() {
+            return self.rows(dofs);
+        }
+        match &self.0 {
+            Kind::Dense { shapes, .. } => Mat::from_fn(rows.len(), shapes.ncols(), |i, k| {
+                let (dofs, weights) = rows.row(i);
+                dofs.iter()
+                    .zip(weights)
+                    .map(|(&d, &w)| w * shapes[(d, k)])
+                    .sum()
+            }),
+            Kind::Factored(f) => {
+                let n = f.dimension();
+                let mut transpose = Mat::zeros(n, rows.len());
+                for i in 0..rows.len() {
+                    let column = transpose
+                        .col_mut(i)
+                        .try_as_col_major_mut()
+                        .expect("a column of a matrix is contiguous");
+                    rows.add_row(i, 1.0, column.as_slice_mut());
+                }
+                f.project_columns(transpose.as_ref()).transpose().to_owned()
+            }
         }
     }
 

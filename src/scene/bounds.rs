@@ -83,10 +83,11 @@ const CELLS: Ends = (closed(1.0), closed(MAX_CELLS_PER_SIDE as f64));
 /// Why the obstacles have a sign.
 const STARTS_BETWEEN: &str = "the plate starts at u = 0 between the obstacles";
 
-/// Every scene parameter with a numeric value, in the order of the scene's fields: the FMU's 23
-/// Real and Integer parameters and `stop_time`. The two obstacle switches and the library-only
-/// choices (`solver.qp`, `solver.linear`, `solver.impact_law`) have no range.
-pub const BOUNDS: [Bound; 24] = [
+/// Every scene parameter with a numeric value, in the order of the scene's fields: the FMU's 32
+/// Real and Integer parameters and `stop_time`. The two obstacle switches, the texts
+/// (`plate.clamp`, the obstacle profiles) and the library-only choices (`solver.qp`,
+/// `solver.linear`, `solver.impact_law`) have no range.
+pub const BOUNDS: [Bound; 33] = [
     bound("plate.length", POSITIVE, "m", "", |s| s.plate.length),
     bound("plate.width", POSITIVE, "m", "", |s| s.plate.width),
     bound("plate.thickness", POSITIVE, "m", "", |s| s.plate.thickness),
@@ -149,6 +150,13 @@ pub const BOUNDS: [Bound; 24] = [
         |s| s.obstacle.upper,
     ),
     bound("load.pressure", FINITE, "Pa", "", |s| s.load.pressure),
+    bound(
+        "load.gravity",
+        NON_NEGATIVE,
+        "m/s2",
+        "it acts downward, in -z",
+        |s| s.load.gravity,
+    ),
     bound("initial.preload_pressure", FINITE, "Pa", "", |s| {
         s.initial.preload_pressure
     }),
@@ -178,6 +186,14 @@ pub const BOUNDS: [Bound; 24] = [
     bound("damping.modal_ratio", NON_NEGATIVE, "1", "", |s| {
         s.damping.modal_ratio
     }),
+    bound("probe1.x", FINITE, "m", "", |s| s.probe1.x),
+    bound("probe1.y", FINITE, "m", "", |s| s.probe1.y),
+    bound("probe2.x", FINITE, "m", "", |s| s.probe2.x),
+    bound("probe2.y", FINITE, "m", "", |s| s.probe2.y),
+    bound("probe3.x", FINITE, "m", "", |s| s.probe3.x),
+    bound("probe3.y", FINITE, "m", "", |s| s.probe3.y),
+    bound("probe4.x", FINITE, "m", "", |s| s.probe4.x),
+    bound("probe4.y", FINITE, "m", "", |s| s.probe4.y),
     bound("stop_time", POSITIVE, "s", "", |s| s.stop_time),
 ];
 

@@ -22,7 +22,7 @@ pub fn build(
                 modes,
                 scene.solver.time_step,
                 FreeDofData {
-                    constrained: &free.constrained,
+                    contact: &free.contact,
                     load: &free.load,
                     translation_mass: &free.translation_mass,
                     outputs: &free.outputs,

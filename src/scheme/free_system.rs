@@ -9,10 +9,10 @@
 
 use super::vectors::dot;
 use crate::assembly::dofs_per_vertex;
-use crate::contact::add_product;
+use crate::contact::{add_product, ContactRows};
 use crate::modes::sparse_restriction;
 use crate::scene::{DampingCoefficients, Scene};
-use crate::system::PlateSystem;
+use crate::system::{PlateSystem, OUTPUT_POINTS};
 use faer::sparse::SparseColMat;
 use std::sync::Arc;
 
@@ -48,10 +48,32 @@ pub struct FreeSystem {
     pub load: Vec<f64>,
     /// m₁ = (M𝟙)_f: the mass matrix times the rigid translation, on the free dofs.
     pub translation_mass: Vec<f64>,
-    /// Free-dof indices of the obstacle-constrained vertex values (empty without obstacles).
-    pub constrained: Vec<usize>,
-    /// Output functionals restricted to the free dofs.
-    pub outputs: [Vec<f64>; 3],
+    /// The constraint rows B of the contact points over the free dofs (none without obstacles):
+    /// (Bw)_i is the deflection relative to the base at contact point i.
+    pub contact: ContactRows,
+    /// The obstacles' heights [h₁, h₂] over each contact point, relative to their levels (−∞ and
+    /// +∞ where an obstacle is absent; 0 everywhere for flat obstacles): the bounds of a step are
+    /// g1 − z + h₁_i ≤ (Bw)_i ≤ g2 − z + h₂_i.
+    pub heights: [Vec<f64>; 2],
+    /// The stop each contact point belongs to on each side (lower, upper), numbered over both
+    /// obstacles ([`crate::obstacles::Height::stop`]), for the per-stop outputs.
+    pub point_stops: Vec<[Option<usize>; 2]>,
+    /// The number of stops of the enabled obstacles.
+    pub stop_count: usize,
+    /// Per side, the height nearest to the plate at rest over the clamp (`None` where the
+    /// obstacle lies over no clamped point): the base must stay strictly between the levels plus
+    /// these ([`crate::scene::Scene::clamp_heights`]).
+    pub clamp_heights: [Option<f64>; 2],
+    /// The obstacles' heights [h₁, h₂] over the two corners (Lx, 0) and (Lx, Ly) where they are
+    /// contact points, −∞ and +∞ where they are not: the check of the reported corner
+    /// displacements against the obstacles.
+    pub corner_heights: [Vec<f64>; 2],
+    /// Per side, the height nearest to the plate at rest anywhere
+    /// ([`crate::scene::Scene::nearest_heights`]), for the gap that scales the tolerances.
+    pub nearest_heights: [f64; 2],
+    /// Output functionals restricted to the free dofs: the three points of the paper's figures,
+    /// then the probes ([`crate::system::output_points`]).
+    pub outputs: [Vec<f64>; OUTPUT_POINTS],
     /// For each mesh vertex, in the mesh's order, the free-dof index of its value dof; `None` on
     /// the clamp, where the value is the base displacement.
     pub vertex_values: Vec<Option<usize>>,
@@ -93,7 +115,7 @@ impl FreeSystem {
             1.0,
             &mut m_translation,
         );
-        let has_obstacle = scene.obstacle.lower_enabled || scene.obstacle.upper_enabled;
+        let layout = &plate.layout;
         FreeSystem {
             mass,
             stiffness,
@@ -103,11 +125,33 @@ impl FreeSystem {
             damping,
             load: keep.iter().map(|&d| plate.unit_load[d]).collect(),
             translation_mass: keep.iter().map(|&d| m_translation[d]).collect(),
-            constrained: if has_obstacle {
-                plate.constrained.clone()
-            } else {
-                Vec::new()
+            contact: ContactRows::new(
+                plate
+                    .contact_rows
+                    .iter()
+                    .map(|r| (&r.dofs[..], &r.weights[..])),
+            ),
+            heights: layout.heights(),
+            point_stops: layout
+                .points
+                .iter()
+                .map(|p| [p.lower, p.upper].map(|h| h.and_then(|h| h.stop)))
+                .collect(),
+            stop_count: layout.stops.len(),
+            clamp_heights: layout.clamp_heights,
+            corner_heights: {
+                let corners = &crate::system::output_points(scene)[..2];
+                let point = |c: &[f64; 2]| layout.points.iter().position(|p| p.position == *c);
+                let heights = layout.heights();
+                [0, 1].map(|side| {
+                    let absent = [f64::NEG_INFINITY, f64::INFINITY][side];
+                    corners
+                        .iter()
+                        .map(|c| point(c).map_or(absent, |i| heights[side][i]))
+                        .collect()
+                })
             },
+            nearest_heights: scene.nearest_heights(),
             outputs: plate.outputs.each_ref().map(|f| {
                 let mut row = vec![0.0; keep.len()];
                 for (&d, &w) in f.dofs.iter().zip(&f.weights) {

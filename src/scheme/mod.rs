@@ -27,6 +27,7 @@
 
 mod auto;
 mod backend;
+mod bounds;
 mod energy;
 mod free_system;
 mod impact;

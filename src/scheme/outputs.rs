@@ -38,6 +38,26 @@ pub struct Outputs {
     pub contact_loss: f64,
     /// Energy removed by damping since t_1 (J).
     pub damping_loss: f64,
+    /// u at the probe points `probe1` … `probe4` (m); absent from the states saved before
+    /// probes existed, which read 0 and are set again by the next step.
+    #[serde(default)]
+    pub probe1: f64,
+    /// u at `probe2` (m).
+    #[serde(default)]
+    pub probe2: f64,
+    /// u at `probe3` (m).
+    #[serde(default)]
+    pub probe3: f64,
+    /// u at `probe4` (m).
+    #[serde(default)]
+    pub probe4: f64,
+}
+
+impl Outputs {
+    /// u at the probes, in order (m).
+    pub fn probes(&self) -> [f64; crate::scene::PROBES] {
+        [self.probe1, self.probe2, self.probe3, self.probe4]
+    }
 }
 
 /// Declares the real fields of [`Outputs`], in declaration order, once for every method that
@@ -77,4 +97,8 @@ real_fields!(
     load_work,
     contact_loss,
     damping_loss,
+    probe1,
+    probe2,
+    probe3,
+    probe4,
 );

@@ -1,6 +1,7 @@
 //! The initial state: static equilibrium under the preload pressure, with contact when it pushes
 //! the plate into an obstacle.
 
+use super::bounds::ObstacleBounds;
 use super::free_system::FreeSystem;
 use super::reference::solve_reference;
 use crate::contact::{BoundState, BoxQp};
@@ -20,16 +21,17 @@ pub struct StaticPreload {
     pub warning: Option<String>,
 }
 
-/// The static equilibrium K_ff w = p₀ f + Bᵀλ under the preload p₀, with the obstacle bounds
-/// g − z₀ when the unconstrained equilibrium violates them (a static contact QP solved by clarabel;
-/// its multipliers λ are the static contact forces, in newtons).
+/// The static equilibrium K_ff w = p₀ f + Bᵀλ under the preload p₀ less the weight
+/// ([`Scene::acting_preload_pressure`]), with the obstacle bounds g − z₀ + h_i when the
+/// unconstrained equilibrium violates them (a static contact QP solved by clarabel; its
+/// multipliers λ are the static contact forces, in newtons).
 pub fn static_preload(
     scene: &Scene,
     free: &FreeSystem,
     initial_base: f64,
 ) -> Result<StaticPreload, Error> {
-    let p = scene.initial.preload_pressure;
-    let (n, m) = (free.load.len(), free.constrained.len());
+    let p = scene.acting_preload_pressure();
+    let (n, m) = (free.load.len(), free.contact.len());
     let without_contact = |displacement| StaticPreload {
         displacement,
         states: vec![BoundState::Free; m],
@@ -50,24 +52,28 @@ pub fn static_preload(
         use faer::linalg::solvers::Solve;
         factor.solve_in_place(faer::ColMut::from_slice_mut(&mut w).as_mat_mut());
     }
-    let lower = scene
-        .lower_obstacle()
-        .map_or(f64::NEG_INFINITY, |g| g - initial_base);
-    let upper = scene
-        .upper_obstacle()
-        .map_or(f64::INFINITY, |g| g - initial_base);
-    let feasible = free
-        .constrained
-        .iter()
-        .all(|&i| w[i] >= lower && w[i] <= upper);
+    let bounds = ObstacleBounds {
+        levels: [
+            scene
+                .lower_obstacle()
+                .map_or(f64::NEG_INFINITY, |g| g - initial_base),
+            scene
+                .upper_obstacle()
+                .map_or(f64::INFINITY, |g| g - initial_base),
+        ],
+        heights: &free.heights,
+    };
+    let rows = &free.contact;
+    let feasible = (0..m).all(|i| bounds.admits(i, rows.value(i, &w)));
     if feasible {
         return Ok(without_contact(w));
     }
-    let (lower, upper) = (vec![lower; m], vec![upper; m]);
+    let lower: Vec<f64> = (0..m).map(|i| bounds.lower(i)).collect();
+    let upper: Vec<f64> = (0..m).map(|i| bounds.upper(i)).collect();
     let (solution, warning) = solve_reference(&BoxQp {
         a: free.stiffness.as_ref(),
         b: &b,
-        constrained: &free.constrained,
+        rows,
         lower: &lower,
         upper: &upper,
     })?;

@@ -15,6 +15,7 @@
 //! (A or A₀), b and the workspace of its contact solve. The field maps (free functions here, over
 //! the [`FreeSystem`]) are the identity's: a field is w_f itself.
 
+use super::bounds::ObstacleBounds;
 use super::free_system::{quadratic, FreeSystem, StepForcing};
 use super::sums::{EnergyPieces, FieldSums};
 use super::vectors::{dot, sum_of_squares};
@@ -23,6 +24,7 @@ use crate::contact::ordering::nested_dissection;
 use crate::contact::sparse_contact::SparseContact;
 use crate::contact::{BoundState, PdasReport, PdasSettings};
 use crate::error::Error;
+use crate::system::OUTPUT_POINTS;
 use faer::sparse::SparseColMat;
 use std::sync::Arc;
 
@@ -112,7 +114,7 @@ fn contact_solve(
 ) -> Result<SparseContact, Error> {
     SparseContact::new(
         Arc::clone(a),
-        &free.constrained,
+        &free.contact,
         DEFAULT_DELASSUS_BUDGET,
         Some(&nested_dissection(&free.nodes)),
     )
@@ -139,13 +141,11 @@ impl<'a> Step<'a> {
         self.free
     }
 
-    /// Whether the prediction `next` satisfies lower ≤ w ≤ upper at every constrained vertex:
-    /// exact, the constrained values being entries of w.
-    pub(in crate::scheme) fn proven_within(&self, next: &[f64], lower: f64, upper: f64) -> bool {
-        self.free
-            .constrained
-            .iter()
-            .all(|&d| next[d] >= lower && next[d] <= upper)
+    /// Whether the prediction `next` satisfies its `bounds` at every contact point: exact, the
+    /// constrained values being sparse rows of w.
+    pub(in crate::scheme) fn proven_within(&self, next: &[f64], bounds: ObstacleBounds) -> bool {
+        let rows = &self.free.contact;
+        (0..rows.len()).all(|i| bounds.admits(i, rows.value(i, next)))
     }
 
     /// [`SparseContact::solve`] on the step's matrix from b and w* = `next`, into `next`.
@@ -198,18 +198,22 @@ pub(in crate::scheme) fn load_projection(free: &FreeSystem, field: &[f64]) -> f6
     dot(&free.load, field)
 }
 
-/// Σ_i μ_i (x − y)_{d_i} over the non-zero μ_i, d_i the free dof of vertex i.
+/// Σ_i μ_i B_i(x − y) over the non-zero μ_i (at a vertex, (x − y)_{d_i} with d_i its free dof).
 pub(in crate::scheme) fn multiplier_work(
     free: &FreeSystem,
     next: &[f64],
     previous: &[f64],
     multipliers: &[f64],
 ) -> f64 {
+    let rows = &free.contact;
     multipliers
         .iter()
-        .zip(&free.constrained)
-        .filter(|(&mu, _)| mu != 0.0)
-        .map(|(&mu, &d)| mu * (next[d] - previous[d]))
+        .enumerate()
+        .filter(|(_, &mu)| mu != 0.0)
+        .map(|(i, &mu)| match rows.unit(i) {
+            Some(d) => mu * (next[d] - previous[d]),
+            None => mu * (rows.value(i, next) - rows.value(i, previous)),
+        })
         .sum()
 }
 
@@ -236,13 +240,11 @@ pub(in crate::scheme) fn magnitude_scale(free: &FreeSystem, time_step: f64) -> f
 }
 
 pub(in crate::scheme) fn constrained_values(free: &FreeSystem, field: &[f64], out: &mut [f64]) {
-    for (o, &d) in out.iter_mut().zip(&free.constrained) {
-        *o = field[d];
-    }
+    free.contact.values(field, out);
 }
 
 pub(in crate::scheme) fn constrained_value(free: &FreeSystem, field: &[f64], i: usize) -> f64 {
-    field[free.constrained[i]]
+    free.contact.value(i, field)
 }
 
 pub(in crate::scheme) fn energy(
@@ -273,6 +275,6 @@ pub(in crate::scheme) fn damping_quadratic(free: &FreeSystem, x: &[f64], y: &[f6
         + free.damping.beta * quadratic(&free.stiffness, &difference)
 }
 
-pub(in crate::scheme) fn output_values(free: &FreeSystem, field: &[f64]) -> [f64; 3] {
+pub(in crate::scheme) fn output_values(free: &FreeSystem, field: &[f64]) -> [f64; OUTPUT_POINTS] {
     free.outputs.each_ref().map(|row| dot(row, field))
 }

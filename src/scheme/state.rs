@@ -9,6 +9,7 @@ use super::free_system::FreeSystem;
 use crate::contact::BoundState;
 use crate::error::Error;
 use crate::scene::{LinearChoice, Outside, Scene};
+use crate::system::OUTPUT_POINTS;
 use serde::{Deserialize, Serialize};
 
 /// Relative tolerance of the obstacle bounds when a state is restored: 1e-6 of the gap
@@ -238,7 +239,7 @@ impl Model<'_> {
     /// The lengths of the state's fields against the backend's dimension and the constrained
     /// vertices.
     fn check_dimensions(&self, state: &State) -> Result<(), Error> {
-        let (n, m) = (self.maps.dimension(), self.free.constrained.len());
+        let (n, m) = (self.maps.dimension(), self.free.contact.len());
         for (field, length, expected) in [
             ("previous", state.previous.len(), n),
             ("current", state.current.len(), n),
@@ -265,7 +266,7 @@ impl Model<'_> {
             previous: &state.previous,
             current: &state.current,
         };
-        let tolerance = RESTORE_BOUND_TOLERANCE * state.scene.gap();
+        let tolerance = RESTORE_BOUND_TOLERANCE * state.scene.gap_from(self.free.nearest_heights);
         match self.first_level_outside(&state.scene, &levels, tolerance) {
             None => Ok(()),
             Some(LevelOutside::Base { level, error }) => Err(Error::invalid_state(
@@ -274,11 +275,16 @@ impl Model<'_> {
                 &format!("must be inside the gap ({error})"),
             )),
             Some(LevelOutside::Vertex { level, outside }) => Err(Error::invalid_state(
-                &format!("{}[vertex {}]", ["previous", "current"][level], outside.index),
+                &format!(
+                    "{}[contact point {}]",
+                    ["previous", "current"][level],
+                    outside.index
+                ),
                 format!("<u = {:?} m>", outside.value),
                 &format!(
-                    "must put every constrained vertex within the obstacles ({}), to {tolerance:e} m",
-                    obstacle_levels(&state.scene)
+                    "must put every contact point within the obstacles (there at {} m), to \
+                     {tolerance:e} m",
+                    outside.level
                 ),
             )),
         }
@@ -298,11 +304,12 @@ impl Model<'_> {
         let dt = scene.solver.time_step;
         let times = [levels.step_index.saturating_sub(1), levels.step_index].map(|n| n as f64 * dt);
         for (level, (&z, time)) in levels.base.iter().zip(times).enumerate() {
-            if let Err(error) = check_base(scene, time, z) {
+            if let Err(error) = check_base(scene, self.free.clamp_heights, time, z) {
                 return Some(LevelOutside::Base { level, error });
             }
         }
-        let mut u = vec![0.0; self.free.constrained.len()];
+        let mut u = vec![0.0; self.free.contact.len()];
+        let [lower, upper] = &self.free.heights;
         for (level, (field, z)) in [levels.previous, levels.current]
             .into_iter()
             .zip(levels.base)
@@ -312,7 +319,7 @@ impl Model<'_> {
             for u in u.iter_mut() {
                 *u += z;
             }
-            if let Some(outside) = scene.first_outside(&u, tolerance) {
+            if let Some(outside) = scene.first_outside(&u, [lower, upper], tolerance) {
                 return Some(LevelOutside::Vertex { level, outside });
             }
         }
@@ -328,7 +335,7 @@ impl Model<'_> {
         base: [f64; 2],
         pressure: f64,
         at_rest: bool,
-    ) -> (DiscreteEnergy, [f64; 3]) {
+    ) -> (DiscreteEnergy, [f64; OUTPUT_POINTS]) {
         let dt = self.scene.solver.time_step;
         let pieces = self.maps.energy(previous, current, dt);
         let energy = DiscreteEnergy::new(self.free, pieces, base, pressure, dt, at_rest);
@@ -338,11 +345,10 @@ impl Model<'_> {
     /// [`RESTORE_FORCE_TOLERANCE`] in newtons for the obstacles of `scene`.
     fn force_tolerance(&self, scene: &Scene) -> f64 {
         let a = self.free.system.as_ref();
-        let largest_diagonal = self
-            .free
-            .constrained
-            .iter()
-            .map(|&d| {
+        let rows = &self.free.contact;
+        let largest_diagonal = (0..rows.len())
+            .flat_map(|i| rows.row(i).0.iter().copied())
+            .map(|d| {
                 a.row_idx_of_col(d)
                     .zip(a.val_of_col(d))
                     .find(|&(i, _)| i == d)
@@ -354,9 +360,18 @@ impl Model<'_> {
     }
 }
 
-/// The base must stay strictly inside the gap (docs/model.md).
-pub(super) fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Error> {
-    let (lower, upper) = (scene.lower_obstacle(), scene.upper_obstacle());
+/// The base must stay strictly inside the gap over the clamp (docs/model.md §5): z strictly
+/// between g1 + h₁ and g2 + h₂, with `clamp_heights` = [h₁, h₂] the profiles' heights nearest to
+/// the plate at rest over the clamp (`None` where that obstacle lies over no clamped point; 0 for
+/// flat obstacles, whose limits are then the levels bit for bit).
+pub(super) fn check_base(
+    scene: &Scene,
+    [lower_height, upper_height]: [Option<f64>; 2],
+    time: f64,
+    base: f64,
+) -> Result<(), Error> {
+    let lower = scene.lower_obstacle().zip(lower_height).map(|(g, h)| g + h);
+    let upper = scene.upper_obstacle().zip(upper_height).map(|(g, h)| g + h);
     let inside =
         base.is_finite() && lower.is_none_or(|g| base > g) && upper.is_none_or(|g| base < g);
     if inside {
@@ -369,18 +384,6 @@ pub(super) fn check_base(scene: &Scene, time: f64, base: f64) -> Result<(), Erro
             upper,
         })
     }
-}
-
-/// The enabled obstacle levels, for messages: "lower −0.01 m, upper 0.01 m".
-fn obstacle_levels(scene: &Scene) -> String {
-    let levels: Vec<String> = [
-        ("lower", scene.lower_obstacle()),
-        ("upper", scene.upper_obstacle()),
-    ]
-    .into_iter()
-    .filter_map(|(name, g)| g.map(|g| format!("{name} {g} m")))
-    .collect();
-    levels.join(", ")
 }
 
 #[cfg(test)]

@@ -15,6 +15,7 @@ mod workspace;
 
 use super::auto;
 use super::backend::{Backend, FieldMaps, TimeLevels};
+use super::bounds::ObstacleBounds;
 use super::energy::EnergyFlows;
 use super::free_system::FreeSystem;
 use super::free_system::StepForcing;
@@ -29,7 +30,7 @@ use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
 use crate::contact::{BoundState, PdasSettings};
 use crate::error::Error;
 use crate::scene::{LinearChoice, ObstacleSide, Scene};
-use crate::system::PlateSystem;
+use crate::system::{PlateSystem, OUTPUT_POINTS};
 use closing::Closing;
 use paths::{Route, Solved};
 use serde::{Deserialize, Serialize};
@@ -184,21 +185,21 @@ impl Stepper {
         initial_base: f64,
     ) -> Result<Stepper, Error> {
         check_set_up(scene)?;
-        check_base(scene, 0.0, initial_base)?;
         let free = Arc::new(FreeSystem::new(scene, plate));
+        check_base(scene, free.clamp_heights, 0.0, initial_base)?;
         let linear = crate::backend_choice::resolve(scene, plate.free.len());
         let preload = static_preload(scene, &free, initial_base)?;
         let backend = auto::build(linear, scene, &free)?;
         let maps = backend.maps();
         let mut field = vec![0.0; maps.dimension()];
         maps.field_of_free_dofs(&preload.displacement, &mut field);
-        let m = free.constrained.len();
+        let m = free.contact.len();
         let sums = maps.field_sums(&field);
         let magnitude_scale = maps.magnitude_scale(scene.solver.time_step);
-        // At rest in static equilibrium, the base balances the preload and the obstacles:
-        // 0 = G + p₀∫1 + Σλ.
+        // At rest in static equilibrium, the base balances the preload (with the weight) and the
+        // obstacles: 0 = G + p₀∫1 + Σλ.
         let base_force =
-            scene.initial.preload_pressure * free.area + preload.forces.iter().sum::<f64>();
+            scene.acting_preload_pressure() * free.area + preload.forces.iter().sum::<f64>();
         let run = Run {
             scene: scene.clone(),
             current_norm_squared: sums.norm_squared,
@@ -211,7 +212,7 @@ impl Stepper {
             linear,
             step_index: 0,
             base: [initial_base; 2],
-            pressure: [scene.load.pressure; 2],
+            pressure: [scene.acting_pressure(); 2],
             law: Law::of(&scene.solver),
             states: preload.states,
             active_set_settings: PdasSettings::default(),
@@ -253,14 +254,34 @@ impl Stepper {
         self.backend.maps().dimension()
     }
 
-    /// Number of obstacle-constrained vertices (0 without obstacles).
+    /// Number of contact points (0 without obstacles).
     pub fn constrained_count(&self) -> usize {
-        self.run.free.constrained.len()
+        self.run.free.contact.len()
     }
 
-    /// Displacements u_n at the obstacle-constrained vertices (m).
+    /// The obstacles' heights over the contact points, [h₁, h₂] relative to the levels (−∞ and +∞
+    /// where an obstacle is absent), in the order of [`Stepper::constrained_displacements`].
+    pub fn obstacle_heights(&self) -> [&[f64]; 2] {
+        let [lower, upper] = &self.run.free.heights;
+        [lower, upper]
+    }
+
+    /// The obstacles' heights [h₁, h₂] over the corners (Lx, 0) and (Lx, Ly), where they are
+    /// contact points (−∞ and +∞ where not), for a check of the reported corners.
+    pub fn corner_heights(&self) -> [&[f64]; 2] {
+        let [lower, upper] = &self.run.free.corner_heights;
+        [lower, upper]
+    }
+
+    /// Whether the base displacement `z` (m) lies strictly inside the gap over the clamp for the
+    /// obstacle levels of `scene` (a scene with this stepper's fixed part).
+    pub fn base_admits(&self, scene: &Scene, z: f64) -> bool {
+        check_base(scene, self.run.free.clamp_heights, 0.0, z).is_ok()
+    }
+
+    /// Displacements u_n at the contact points (m).
     pub fn constrained_displacements(&self) -> Vec<f64> {
-        let mut w = vec![0.0; self.run.free.constrained.len()];
+        let mut w = vec![0.0; self.run.free.contact.len()];
         self.backend
             .maps()
             .constrained_values(&self.levels.current, &mut w);
@@ -273,19 +294,19 @@ impl Stepper {
     pub fn vertex_displacements(&self) -> [Vec<f64>; 2] {
         let free = &*self.run.free;
         let maps = self.backend.maps();
-        // With an obstacle the constrained vertices are exactly those off the clamp, in the same
-        // order, and the backend reads their values cheaply; without, from the free dofs.
+        // With flat obstacles the contact points are exactly the vertices off the clamp, in the
+        // same order, and the backend reads their values cheaply; otherwise, from the free dofs.
         let constrained_are_off_clamp = free
-            .constrained
-            .iter()
-            .eq(free.vertex_values.iter().flatten());
+            .contact
+            .selected()
+            .is_some_and(|dofs| dofs.iter().eq(free.vertex_values.iter().flatten()));
         [
             (&self.levels.previous, self.run.base[0]),
             (&self.levels.current, self.run.base[1]),
         ]
         .map(|(field, z)| {
             let relative: Vec<f64> = if constrained_are_off_clamp {
-                let mut w = vec![0.0; free.constrained.len()];
+                let mut w = vec![0.0; free.contact.len()];
                 maps.constrained_values(field, &mut w);
                 w
             } else {
@@ -305,7 +326,7 @@ impl Stepper {
 
     /// The displacements u_{n−1} and u_n (m) at the three output points, formed as
     /// [`Stepper::outputs`] forms u_n (bit for bit).
-    pub fn output_point_displacements(&self) -> [[f64; 3]; 2] {
+    pub fn output_point_displacements(&self) -> [[f64; OUTPUT_POINTS]; 2] {
         [
             (&self.levels.previous, self.run.base[0]),
             (&self.levels.current, self.run.base[1]),
@@ -369,7 +390,7 @@ impl Stepper {
             previous: &self.levels.previous,
             current: &self.levels.current,
         };
-        let tolerance = MOVE_BOUND_TOLERANCE * scene.gap();
+        let tolerance = MOVE_BOUND_TOLERANCE * scene.gap_from(self.run.free.nearest_heights);
         match self.model().first_level_outside(&scene, &levels, tolerance) {
             None => {
                 self.run.scene = scene;
@@ -383,10 +404,14 @@ impl Stepper {
                 };
                 Err(Error::invalid(
                     outside.obstacle.parameter(),
-                    outside.level,
+                    match outside.obstacle {
+                        ObstacleSide::Lower => lower,
+                        ObstacleSide::Upper => upper,
+                    },
                     &format!(
-                        "must not be {relation} the plate: a vertex is at u = {} m",
-                        outside.value
+                        "must not put the obstacle {relation} the plate: contact point {} is at \
+                         u = {} m, where the obstacle would be at {} m",
+                        outside.index, outside.value, outside.level
                     ),
                 ))
             }
@@ -494,7 +519,7 @@ impl Stepper {
         run.base_impulse = closing.base_impulse;
         run.flows = run.flows.plus(&closing.flows);
         run.base = [run.base[1], input.base_next];
-        run.pressure = [run.pressure[1], run.scene.load.pressure];
+        run.pressure = [run.pressure[1], run.scene.acting_pressure()];
         run.step_index += 1;
         StepReport {
             active,
@@ -515,7 +540,7 @@ impl Stepper {
         let active_nodes = self.run.states.iter().filter(|s| s.is_active()).count();
         let contact_force = self.run.forces.iter().sum();
         // The pressure that acted on the last step, not one set since for the next.
-        let (energy, [a, b, c]) = self.model().energy_and_values(
+        let (energy, [a, b, c, p1, p2, p3, p4]) = self.model().energy_and_values(
             &self.levels.previous,
             &self.levels.current,
             self.run.base,
@@ -538,6 +563,10 @@ impl Stepper {
             load_work: self.run.flows.load_work,
             contact_loss: self.run.flows.contact_loss,
             damping_loss: self.run.flows.damping_loss,
+            probe1: z + p1,
+            probe2: z + p2,
+            probe3: z + p3,
+            probe4: z + p4,
         }
     }
 
@@ -621,6 +650,19 @@ impl Run {
         self.step_index as f64 * self.scene.solver.time_step
     }
 
+    /// The obstacles' bounds of the step `input` at every contact point.
+    fn bounds(&self, input: &StepInput) -> ObstacleBounds<'_> {
+        ObstacleBounds {
+            levels: input.obstacles,
+            heights: &self.free.heights,
+        }
+    }
+
+    /// [`Scene::gap`] of the running scene, without parsing its profiles.
+    fn gap(&self) -> f64 {
+        self.scene.gap_from(self.free.nearest_heights)
+    }
+
     /// The model a state is checked against ([`Model::check`]), with the backend's field maps.
     fn model<'a>(&'a self, maps: FieldMaps<'a>) -> Model<'a> {
         Model {
@@ -636,10 +678,10 @@ impl Run {
     fn step_input(&self, base_next: f64) -> Result<StepInput, Error> {
         let dt = self.scene.solver.time_step;
         let t_next = (self.step_index + 1) as f64 * dt;
-        check_base(&self.scene, t_next, base_next)?;
+        check_base(&self.scene, self.free.clamp_heights, t_next, base_next)?;
         let start = self.step_index == 0;
         let [z_prev, z_curr] = self.base;
-        let p_next = self.scene.load.pressure;
+        let p_next = self.scene.acting_pressure();
         let forcing = if start {
             StepForcing {
                 load: 0.25 * dt * dt * (p_next + self.pressure[1]),
@@ -674,5 +716,5 @@ impl Run {
 /// memory against [`DEFAULT_MEMORY_BUDGET`] (docs/contact.md, "Memory").
 fn check_set_up(scene: &Scene) -> Result<(), Error> {
     scene.validate()?;
-    MemoryEstimate::of(scene).check(DEFAULT_MEMORY_BUDGET)
+    MemoryEstimate::of(scene)?.check(DEFAULT_MEMORY_BUDGET)
 }

@@ -170,6 +170,10 @@ mod tests {
             load_work: 6.0 * x,
             contact_loss: 7.0 * x,
             damping_loss: 8.0 * x,
+            probe1: 11.0 * x,
+            probe2: 12.0 * x,
+            probe3: 13.0 * x,
+            probe4: 14.0 * x,
         }
     }
 
@@ -178,6 +182,7 @@ mod tests {
         let (a, b) = (outputs(1.0, 2), outputs(3.0, 0));
         let mid = interpolate(&a, &b, 0.25);
         assert_eq!((mid.corner1, mid.corner2, mid.edge_mid), (1.5, -1.5, 3.0));
+        assert_eq!(mid.probes(), [16.5, 18.0, 19.5, 21.0]);
         assert_eq!(mid.energy_total, 6.0);
         assert_eq!(
             (mid.base_force, mid.base_work, mid.damping_loss),

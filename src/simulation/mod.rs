@@ -30,6 +30,7 @@ use crate::error::Error;
 use crate::scene::Scene;
 use crate::scheme::Stepper;
 pub use crate::scheme::{Outputs, State, StepPath, StepReport};
+use crate::system::OUTPUT_POINTS;
 use contact_summary::ContactSummary;
 use grid::{GridError, StepEnd, TimeGrid};
 use input::{InputHistory, InputSample};
@@ -151,21 +152,21 @@ pub struct StepStart {
 /// same tolerance holds for every e.
 pub const BOUND_TOLERANCE: f64 = 1e-7;
 
-/// [`BOUND_TOLERANCE`] × [`Scene::gap`] (m): g2 − g1 with both obstacles, |g| with one, 1 m with
-/// none.
+/// [`BOUND_TOLERANCE`] × [`Scene::gap`] (m): for flat obstacles g2 − g1 with both, |g| with one,
+/// 1 m with none.
 pub fn bound_tolerance(scene: &Scene) -> f64 {
     BOUND_TOLERANCE * scene.gap()
 }
 
-/// Refuses an initial state with a vertex past an obstacle (a static preload problem that was not
-/// solved accurately), naming the vertex position and the obstacle.
+/// Refuses an initial state with a contact point past an obstacle (a static preload problem that
+/// was not solved accurately), naming the point's position and the obstacle.
 fn check_initial_state(stepper: &Stepper) -> Result<(), Error> {
     let scene = stepper.scene();
     let constrained = stepper.constrained_displacements();
-    match scene.first_outside(&constrained, bound_tolerance(scene)) {
+    match scene.first_outside(&constrained, stepper.obstacle_heights(), bound_tolerance(scene)) {
         Some(outside) => Err(Error::ContactSolver(format!(
-            "the initial state (static equilibrium under initial.preload_pressure = {} Pa) puts a vertex at u = {} m, past the obstacle at {} m: the static contact problem was not solved accurately for these parameters (material.young_modulus = {} Pa)",
-            scene.initial.preload_pressure, outside.value, outside.level, scene.material.young_modulus
+            "the initial state (static equilibrium under initial.preload_pressure = {} Pa and load.gravity = {} m/s2) puts contact point {} at u = {} m, past the obstacle at {} m: the static contact problem was not solved accurately for these parameters (material.young_modulus = {} Pa)",
+            scene.initial.preload_pressure, scene.load.gravity, outside.index, outside.value, outside.level, scene.material.young_modulus
         ))),
         None => Ok(()),
     }
@@ -243,12 +244,10 @@ impl Simulation {
         let (initial, initial_external) = &self.initial;
         let old = &initial.scene;
         let z0 = scene.builtin_base(0.0) + external_base;
-        let inside = scene.lower_obstacle().is_none_or(|g| z0 > g)
-            && scene.upper_obstacle().is_none_or(|g| z0 < g);
         let reusable = scene.validate().is_ok()
-            && inside
             && old.fixed_part() == scene.fixed_part()
-            && (scene.initial.preload_pressure == 0.0
+            && self.stepper.base_admits(scene, z0)
+            && (scene.acting_preload_pressure() == 0.0
                 || (*initial_external == external_base && old.obstacle == scene.obstacle));
         if !reusable {
             *self = Simulation::new(scene, start_time, external_base)?;
@@ -281,6 +280,12 @@ impl Simulation {
     /// The scene, tunable parameters at their current values.
     pub fn scene(&self) -> &Scene {
         self.stepper.scene()
+    }
+
+    /// The stepper, for what it reports beyond the outputs (the obstacles' heights, the contact
+    /// forces).
+    pub fn stepper(&self) -> &Stepper {
+        &self.stepper
     }
 
     /// The internal time grid.
@@ -362,13 +367,14 @@ impl Simulation {
         &self.contact
     }
 
-    /// d/dt of the displacement outputs `corner1`, `corner2`, `edge_mid` at the communication
-    /// time (m/s): the slope of their interpolation, (y_N − y_{N−1})/Δt over the grid interval
-    /// (t_{N−1}, t_N] that holds the communication time ([`interpolation`]); 0 at t_start.
-    pub fn displacement_rates(&self) -> [f64; 3] {
+    /// d/dt of the displacement outputs `corner1`, `corner2`, `edge_mid` and of the probes at the
+    /// communication time (m/s): the slope of their interpolation, (y_N − y_{N−1})/Δt over the
+    /// grid interval (t_{N−1}, t_N] that holds the communication time ([`interpolation`]); 0 at
+    /// t_start.
+    pub fn displacement_rates(&self) -> [f64; OUTPUT_POINTS] {
         let [previous, current] = self.stepper.output_point_displacements();
         let dt = self.grid.step;
-        [0, 1, 2].map(|k| interpolation::rate(previous[k], current[k], dt))
+        std::array::from_fn(|k| interpolation::rate(previous[k], current[k], dt))
     }
 
     /// The displacement at every mesh vertex at the communication time, and its rate, computed on

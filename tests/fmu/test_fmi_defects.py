@@ -81,7 +81,7 @@ def crafted(plate, edit):
     ("start_time", lambda s: s["model"].update(start_time=-1e308), "too coarse"),
     ("poisson_ratio", lambda s: s["model"]["parameters"]["material"].update(poisson_ratio=0.7),
      "material.poisson_ratio"),
-    ("field value", lambda s: s["model"]["simulation"]["stepper"]["current"].__setitem__(0, -1e308), "current[vertex"),
+    ("field value", lambda s: s["model"]["simulation"]["stepper"]["current"].__setitem__(0, -1e308), "current[contact point"),
     ("step count", lambda s: json_text(s, '"step_index":', "-9223372036854775809"), "invalid payload"),
     ("mode", lambda s: s.update(mode="StepCanceled"), "never enters"),
 ])

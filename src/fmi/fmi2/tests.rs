@@ -430,7 +430,7 @@ fn crafted_fmu_states_are_refused_naming_the_field() {
         (
             vec!["model", "simulation", "stepper", "current", "0"],
             "-1e308",
-            "current[vertex",
+            "current[contact point",
         ),
         (
             vec!["model", "simulation", "point"],

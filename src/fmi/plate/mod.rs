@@ -274,7 +274,7 @@ fn unsound_outputs(sim: &Simulation) -> Option<String> {
             "the output {name} = {x} at t = {t} s is not finite: the simulation overflowed (a base displacement or load far beyond the plate's scale?)"
         ));
     }
-    first_past_obstacle(outputs, sim.scene()).map(|(name, u, g)| {
+    first_past_obstacle(outputs, sim.scene(), sim.stepper().corner_heights()).map(|(name, u, g)| {
         format!(
             "the output {name} = {u} m at t = {t} s lies past the obstacle at {g} m: the contact problem was not solved (a load or base displacement far beyond the plate's scale?)"
         )

@@ -65,7 +65,7 @@ fn field(s: &Scene, name: &str) -> Option<Value> {
 /// backend the set-up builds for them (`solver.backend`, [`backend_code`] of
 /// [`backend_choice::resolve`]). All follow from the parameters alone: none needs a set-up.
 pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
-    let free_dofs = || ProblemSize::of(scene).free_dofs;
+    let free_dofs = || ProblemSize::of(scene).map(|size| size.free_dofs);
     match v.vr {
         vr::DAMPING_ALPHA | vr::DAMPING_BETA => {
             scene.damping.validate()?;
@@ -76,14 +76,17 @@ pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
                 beta
             }))
         }
-        vr::SOLVER_FREE_DOFS => i32::try_from(free_dofs()).map(Value::Integer).map_err(|_| {
-            Failure::refused(format!(
-                "{} = {} exceeds the Integer range (internal error: the mesh bounds keep it below)",
-                v.name,
-                free_dofs()
-            ))
-        }),
-        vr::SOLVER_BACKEND => backend_code(backend_choice::resolve(scene, free_dofs()))
+        vr::SOLVER_FREE_DOFS => {
+            let n = free_dofs()?;
+            i32::try_from(n).map(Value::Integer).map_err(|_| {
+                Failure::refused(format!(
+                    "{} = {n} exceeds the Integer range (internal error: the mesh bounds keep it \
+                     below)",
+                    v.name
+                ))
+            })
+        }
+        vr::SOLVER_BACKEND => backend_code(backend_choice::resolve(scene, free_dofs()?))
             .map(Value::Integer)
             .ok_or_else(|| Failure::refused(format!("{} is unresolved (internal error)", v.name))),
         _ => Err(Failure::refused(format!(
@@ -269,14 +272,23 @@ pub fn first_non_finite(outputs: &Outputs, last: &LastStep) -> Option<(&'static 
     })
 }
 
-/// The first free corner (an obstacle-constrained vertex) that lies past an enabled obstacle by
-/// more than [`bound_tolerance`] (a fraction of the gap), as (variable name, value, obstacle
-/// level). Every impact law keeps every level within the obstacles, so the check holds for every
-/// restitution e.
-pub fn first_past_obstacle(outputs: &Outputs, scene: &Scene) -> Option<(&'static str, f64, f64)> {
+/// The first corner output that is a contact point (the free corners of the paper's plate) and
+/// lies past an enabled obstacle by more than [`bound_tolerance`] (a fraction of the gap), as
+/// (variable name, value, obstacle level there); `heights` are the obstacles' heights over the
+/// two corners ([`crate::scheme::Stepper::corner_heights`]). Every impact law keeps every level
+/// within the obstacles, so the check holds for every restitution e.
+pub fn first_past_obstacle(
+    outputs: &Outputs,
+    scene: &Scene,
+    heights: [&[f64]; 2],
+) -> Option<(&'static str, f64, f64)> {
     const CORNERS: [&str; 2] = ["corner1.displacement", "corner2.displacement"];
     scene
-        .first_outside(&[outputs.corner1, outputs.corner2], bound_tolerance(scene))
+        .first_outside(
+            &[outputs.corner1, outputs.corner2],
+            heights,
+            bound_tolerance(scene),
+        )
         .map(|outside| (CORNERS[outside.index], outside.value, outside.level))
 }
 

@@ -5,6 +5,7 @@ use crate::scheme::free_system::FreeSystem;
 use crate::scheme::modal::ModalData;
 use crate::scheme::sparse;
 use crate::scheme::sums::{EnergyPieces, FieldSums};
+use crate::system::OUTPUT_POINTS;
 
 /// The read-only maps of fields in one backend's coordinates (see the module docs).
 #[derive(Clone, Copy)]
@@ -121,7 +122,7 @@ impl FieldMaps<'_> {
     }
 
     /// A field's relative displacement w at the three output points.
-    pub(in crate::scheme) fn output_values(self, field: &[f64]) -> [f64; 3] {
+    pub(in crate::scheme) fn output_values(self, field: &[f64]) -> [f64; OUTPUT_POINTS] {
         match self {
             FieldMaps::Modal(data) => data.output_values(field),
             FieldMaps::Sparse(free) => sparse::output_values(free, field),

@@ -5,6 +5,7 @@
 use super::maps::FieldMaps;
 use crate::contact::{BoundState, PdasReport, PdasSettings};
 use crate::error::Error;
+use crate::scheme::bounds::ObstacleBounds;
 use crate::scheme::sums::FieldSums;
 use crate::scheme::{modal, sparse};
 
@@ -119,27 +120,24 @@ impl<'a> Prediction<'a> {
         self.fields
     }
 
-    /// A cheap test of lower ≤ w ≤ upper at every constrained vertex, without computing the
-    /// values exactly: the modal backend's reach and levelled screening, the sparse backend's
-    /// exact test (its values are entries of w).
-    pub(in crate::scheme) fn screen(self, lower: f64, upper: f64) -> Screened<'a> {
+    /// A cheap test of the bounds at every contact point, without computing the values exactly:
+    /// the modal backend's reach and levelled screening, the sparse backend's exact test (its
+    /// values are sparse rows of w).
+    pub(in crate::scheme) fn screen(self, bounds: ObstacleBounds) -> Screened<'a> {
         let Prediction { fields, engine, .. } = self;
-        let bounds = [lower, upper];
         match engine {
-            Engine::Modal(predicted) => match predicted.screen(fields.next, lower, upper) {
+            Engine::Modal(predicted) => match predicted.screen(fields.next, bounds) {
                 None => Screened::Proven(fields),
                 Some(unproven) => Screened::Unproven(Unproven {
                     fields,
-                    bounds,
                     engine: Engine::Modal(unproven),
                 }),
             },
-            Engine::Sparse(step) if step.proven_within(fields.next, lower, upper) => {
+            Engine::Sparse(step) if step.proven_within(fields.next, bounds) => {
                 Screened::Proven(fields)
             }
             Engine::Sparse(step) => Screened::Unproven(Unproven {
                 fields,
-                bounds,
                 engine: Engine::Sparse(step),
             }),
         }
@@ -155,23 +153,21 @@ impl<'a> Prediction<'a> {
 /// A step whose prediction the screening did not prove inside the bounds it was given.
 pub(in crate::scheme) struct Unproven<'a> {
     fields: StepFields<'a>,
-    /// The bounds of the screening, [lower, upper].
-    bounds: [f64; 2],
     engine: Engine<modal::Unproven<'a>, sparse::Step<'a>>,
 }
 
 impl<'a> Unproven<'a> {
     /// The constrained values that the contact solve of this step starts from, into `out`: exact
-    /// at every vertex the backend cannot prove inside the screening's bounds, and at the others
-    /// possibly a stand-in value inside them, which [`Values::solve`] replaces by the exact value
-    /// wherever the solution reaches it. A caller that needs every value exact uses
-    /// [`Unproven::exact_values`].
-    pub(in crate::scheme) fn values(self, out: &'a mut [f64]) -> Values<'a> {
-        let Unproven {
-            fields,
-            bounds,
-            engine,
-        } = self;
+    /// at every point the backend cannot prove inside the screening's `bounds` (those the
+    /// screening was given), and at the others possibly a stand-in value inside them, which
+    /// [`Values::solve`] replaces by the exact value wherever the solution reaches it. A caller
+    /// that needs every value exact uses [`Unproven::exact_values`].
+    pub(in crate::scheme) fn values(
+        self,
+        out: &'a mut [f64],
+        bounds: ObstacleBounds,
+    ) -> Values<'a> {
+        let Unproven { fields, engine } = self;
         let engine = match engine {
             Engine::Modal(unproven) => Engine::Modal(unproven.values(fields.next, bounds, out)),
             Engine::Sparse(step) => {

@@ -5,11 +5,12 @@
 
 use super::pass::{lane_dot, Recurrence};
 use super::reach::ReachMetric;
-use crate::contact::DenseDelassus;
+use crate::contact::{ContactRows, DenseDelassus};
 use crate::modes::{ModeShapes, Modes};
 use crate::scene::DampingCoefficients;
 use crate::scheme::sums::{EnergyPieces, FieldSums};
 use crate::scheme::vectors::{dot, sum_of_squares};
+use crate::system::OUTPUT_POINTS;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, ColRef, Mat, MatMut, Par};
 
@@ -116,19 +117,19 @@ pub(in crate::scheme) struct ModalData {
     /// functionals (rows of E Φ).
     pub(super) load: Vec<f64>,
     pub(super) translation_mass: Vec<f64>,
-    pub(super) outputs: [Vec<f64>; 3],
+    pub(super) outputs: [Vec<f64>; OUTPUT_POINTS],
 }
 
 /// The free-dof data of the plate that the modal backend projects onto its modes.
 pub(in crate::scheme) struct FreeDofData<'a> {
-    /// Free-dof indices of the constrained vertex values.
-    pub constrained: &'a [usize],
+    /// The constraint rows B over the free dofs.
+    pub contact: &'a ContactRows,
     /// f_f for a 1 Pa pressure.
     pub load: &'a [f64],
     /// m₁ = (M𝟙)_f.
     pub translation_mass: &'a [f64],
     /// The output functionals over the free dofs.
-    pub outputs: &'a [Vec<f64>; 3],
+    pub outputs: &'a [Vec<f64>; OUTPUT_POINTS],
     /// The damping (Rayleigh and modal ratio).
     pub damping: &'a DampingCoefficients,
 }
@@ -137,9 +138,9 @@ impl ModalData {
     /// Precomputes the modal data from the eigenpairs and the free-dof data of the system.
     pub(in crate::scheme) fn new(modes: Modes, time_step: f64, free: FreeDofData<'_>) -> ModalData {
         let n = modes.omega_squared.len();
-        let m = free.constrained.len();
+        let m = free.contact.len();
         let shapes = modes.shapes;
-        let c = shapes.rows(free.constrained);
+        let c = shapes.rows_of(free.contact);
         let large = n > crate::modes::DENSE_LIMIT;
         let step = ModalSystem::new(&modes.omega_squared, free.damping, time_step, &c, !large);
         let start = (!free.damping.is_zero()).then(|| {
@@ -380,7 +381,7 @@ impl ModalData {
             .sum()
     }
 
-    pub(in crate::scheme) fn output_values(&self, field: &[f64]) -> [f64; 3] {
+    pub(in crate::scheme) fn output_values(&self, field: &[f64]) -> [f64; OUTPUT_POINTS] {
         self.outputs.each_ref().map(|row| dot(row, field))
     }
 }

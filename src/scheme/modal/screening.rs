@@ -6,6 +6,7 @@ use super::data::ModalData;
 use super::reach::Reach;
 use super::{Predicted, Unproven, Valued};
 use crate::contact::BoundState;
+use crate::scheme::bounds::ObstacleBounds;
 use crate::scheme::vectors::sum_of_squares;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, ColRef, Par};
@@ -57,16 +58,16 @@ impl Screening {
     }
 
     /// Whether the prediction `next`, at distance² `moved_squared` from the reach's reference in
-    /// the reach's norm, provably satisfies lower ≤ w ≤ upper at every constrained vertex: within
-    /// the reach of the last proof, or proven by a screening level (which then becomes the proof).
+    /// the reach's norm, provably satisfies its `bounds` at every contact point: within the reach
+    /// of the last proof, or proven by a screening level (which then becomes the proof).
     pub(super) fn screen(
         &mut self,
         data: &ModalData,
         moved_squared: f64,
         next: &[f64],
-        lower: f64,
-        upper: f64,
+        bounds: ObstacleBounds,
     ) -> Screen {
+        let [lower, upper] = bounds.levels;
         if self
             .reach
             .covers(moved_squared, lower, upper, &data.reach_metric)
@@ -76,7 +77,7 @@ impl Screening {
         let norm_squared = screening_norms(&data.levels, next, &mut self.high_squared);
         let unproven = Screen::Unproven { norm_squared };
         let total = norm_squared.sqrt();
-        if self.near && self.last_level_fails(data, next, lower, upper, total) {
+        if self.near && self.last_level_fails(data, next, bounds, total) {
             return unproven;
         }
         let mut done = 0;
@@ -96,8 +97,7 @@ impl Screening {
                 Par::Seq,
             );
             done = modes;
-            let margin =
-                screening_margin(data, level, self.high_squared[level], total, lower, upper);
+            let margin = screening_margin(data, level, self.high_squared[level], total, bounds);
             let proven = self
                 .low_values
                 .iter()
@@ -133,8 +133,7 @@ impl Screening {
         &mut self,
         data: &ModalData,
         next: &[f64],
-        lower: f64,
-        upper: f64,
+        bounds: ObstacleBounds,
         total: f64,
     ) -> bool {
         let last = data.levels.len() - 1;
@@ -147,7 +146,7 @@ impl Screening {
             1.0,
             Par::Seq,
         );
-        let margin = screening_margin(data, last, self.high_squared[last], total, lower, upper);
+        let margin = screening_margin(data, last, self.high_squared[last], total, bounds);
         self.low_values
             .iter()
             .enumerate()
@@ -156,7 +155,7 @@ impl Screening {
 
     /// After a failed screening of `next` (whose ‖q‖² is `norm_squared`): the values handed to
     /// the contact solve, into `out`; returns whether there is a stand-in. A vertex that the
-    /// screening's last level proves inside `[lower, upper]` gets its low-mode part ŷ_i as a
+    /// screening's last level proves inside its `bounds` gets its low-mode part ŷ_i as a
     /// stand-in (inside the bounds by more than the slack r_i that bounds |y*_i − ŷ_i|). On a
     /// basis of up to [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT) modes every other vertex gets its exact value
     /// ŷ_i + (C_H q_H)_i: an m × n product becomes one over the vertices near an obstacle only.
@@ -170,7 +169,7 @@ impl Screening {
         data: &ModalData,
         norm_squared: f64,
         next: &[f64],
-        [lower, upper]: [f64; 2],
+        bounds: ObstacleBounds,
         out: &mut [f64],
     ) -> bool {
         let last = data.levels.len() - 1;
@@ -187,6 +186,7 @@ impl Screening {
         let mut stand_ins = false;
         for (i, value) in out.iter_mut().enumerate() {
             let round_off = 1e-12 * data.row_norms[i] * total;
+            let (lower, upper) = (bounds.lower(i), bounds.upper(i));
             let inside = |y: f64, slack: f64| y - slack >= lower && y + slack <= upper;
             let low = self.low_values[i];
             let (mut stand_in, mut slack) =
@@ -259,14 +259,13 @@ impl Screening {
 }
 
 impl<'a> Predicted<'a> {
-    /// The screening of the prediction `next` against the bounds [`lower`, `upper`] of every
-    /// constrained vertex: `None` when it proves the prediction inside them, otherwise the stage
-    /// from which its values are formed.
+    /// The screening of the prediction `next` against the `bounds` of every contact point:
+    /// `None` when it proves the prediction inside them, otherwise the stage from which its
+    /// values are formed.
     pub(in crate::scheme) fn screen(
         self,
         next: &[f64],
-        lower: f64,
-        upper: f64,
+        bounds: ObstacleBounds,
     ) -> Option<Unproven<'a>> {
         let Predicted {
             step,
@@ -274,7 +273,7 @@ impl<'a> Predicted<'a> {
         } = self;
         match step
             .screening
-            .screen(step.data, moved_squared, next, lower, upper)
+            .screen(step.data, moved_squared, next, bounds)
         {
             Screen::Proven => None,
             Screen::Unproven { norm_squared } => Some(Unproven { step, norm_squared }),
@@ -288,7 +287,7 @@ impl<'a> Unproven<'a> {
     pub(in crate::scheme) fn values(
         self,
         next: &[f64],
-        bounds: [f64; 2],
+        bounds: ObstacleBounds,
         out: &mut [f64],
     ) -> Valued<'a> {
         let Unproven { step, norm_squared } = self;
@@ -320,24 +319,23 @@ pub(super) fn screening_norms(levels: &[usize], q: &[f64], high: &mut [f64]) -> 
     sum_of_squares(&q[..levels[last]]) + high[last]
 }
 
-/// Vertex i's screening margin at `level`, as a function of (i, y_i) with y_i its low-mode value
-/// C_{i,L} q_L: the distance of y_i to the nearer bound less the slack
+/// Point i's screening margin at `level`, as a function of (i, y_i) with y_i its low-mode value
+/// C_{i,L} q_L: the distance of y_i to the nearer of its `bounds` less the slack
 /// g_i^L ‖q_H‖ + 1e-12 ‖C_i‖ ‖q‖ (the remainder bound, with `high_squared` = ‖q_H‖², plus the
 /// round-off of both products, n ε < 1e-12 for any mesh this backend takes; `total` = ‖q‖).
 /// Non-negative when the level proves the vertex inside the bounds.
-fn screening_margin(
-    data: &ModalData,
+fn screening_margin<'a>(
+    data: &'a ModalData,
     level: usize,
     high_squared: f64,
     total: f64,
-    lower: f64,
-    upper: f64,
-) -> impl Fn(usize, f64) -> f64 + '_ {
+    bounds: ObstacleBounds<'a>,
+) -> impl Fn(usize, f64) -> f64 + 'a {
     let high = high_squared.sqrt();
     let weights = &data.high_row_norms[level];
     move |i, y| {
         let slack = weights[i] * high + 1e-12 * data.row_norms[i] * total;
-        (y - slack - lower).min(upper - y - slack)
+        (y - slack - bounds.lower(i)).min(bounds.upper(i) - y - slack)
     }
 }
 

@@ -5,9 +5,10 @@
 use super::data::{FreeDofData, ModalData, SCREENING_MODES};
 use super::screening::{high_mode_part, Screen, Screening};
 use super::{ModalBackend, Predicted, Valued};
-use crate::contact::{BoundState, PdasSettings};
+use crate::contact::{BoundState, ContactRows, PdasSettings};
 use crate::modes::{ModeShapes, Modes};
 use crate::scene::DampingCoefficients;
+use crate::scheme::bounds::ObstacleBounds;
 use crate::scheme::vectors::sum_of_squares;
 use faer::Mat;
 use std::sync::Arc;
@@ -22,7 +23,7 @@ fn synthetic_data() -> Arc<ModalData> {
     let omega_squared: Vec<f64> = (0..n).map(|k| (1.0 + k as f64).powi(4)).collect();
     let constrained: Vec<usize> = (0..m).map(|i| 5 * i).collect();
     let zeros = vec![0.0; n];
-    let outputs = [zeros.clone(), zeros.clone(), zeros.clone()];
+    let outputs = std::array::from_fn(|_| zeros.clone());
     let damping = DampingCoefficients::default();
     Arc::new(ModalData::new(
         Modes {
@@ -31,13 +32,26 @@ fn synthetic_data() -> Arc<ModalData> {
         },
         1e-3,
         FreeDofData {
-            constrained: &constrained,
+            contact: &ContactRows::selection(&constrained),
             load: &zeros,
             translation_mass: &zeros,
             outputs: &outputs,
             damping: &damping,
         },
     ))
+}
+
+/// The heights of flat obstacles over `m` contact points.
+fn flat(m: usize) -> [Vec<f64>; 2] {
+    [vec![0.0; m], vec![0.0; m]]
+}
+
+/// The bounds [`lower`, `upper`] of flat obstacles with `heights` [`flat`].
+fn bounds(lower: f64, upper: f64, heights: &[Vec<f64>; 2]) -> ObstacleBounds<'_> {
+    ObstacleBounds {
+        levels: [lower, upper],
+        heights,
+    }
 }
 
 /// Prediction `case` of a sweep from far inside the bounds of the tests below to past them,
@@ -64,8 +78,10 @@ fn levels_decide_as_the_last_level_alone_and_prove_only_the_truth() {
     for case in 0..2000 {
         let q = swept_prediction(case, n);
         let (lower, upper) = (-0.05, 0.04);
+        let heights = flat(m);
         // An infinite distance to the reach's reference: only the levels decide.
-        let levelled = screening.screen(&data, f64::INFINITY, &q, lower, upper) == Screen::Proven;
+        let levelled = screening.screen(&data, f64::INFINITY, &q, bounds(lower, upper, &heights))
+            == Screen::Proven;
         // The last level alone.
         let low = SCREENING_MODES;
         let high = sum_of_squares(&q[low..]).sqrt();
@@ -111,13 +127,15 @@ fn near_contact_shortcuts_are_bit_identical() {
     let mut shortcut = Screening::new(&data);
     let n = data.c.ncols();
     let (lower, upper) = (-0.05, 0.04);
+    let heights = flat(data.c.nrows());
+    let box_ = bounds(lower, upper, &heights);
     let (mut failed, mut mixed) = (0, 0);
     for case in 0..2000 {
         let q = swept_prediction(case, n);
         levelled.near = false;
         shortcut.near = true;
-        let decided = levelled.screen(&data, f64::INFINITY, &q, lower, upper);
-        let screen = shortcut.screen(&data, f64::INFINITY, &q, lower, upper);
+        let decided = levelled.screen(&data, f64::INFINITY, &q, box_);
+        let screen = shortcut.screen(&data, f64::INFINITY, &q, box_);
         assert_eq!(decided, screen, "case {case}");
         let Screen::Unproven { norm_squared } = screen else {
             continue;
@@ -126,7 +144,7 @@ fn near_contact_shortcuts_are_bit_identical() {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&levelled.low_values), bits(&shortcut.low_values));
         let mut out = vec![0.0; data.c.nrows()];
-        shortcut.values(&data, norm_squared, &q, [lower, upper], &mut out);
+        shortcut.values(&data, norm_squared, &q, box_, &mut out);
         let stand_ins = shortcut.stand_in.iter().filter(|&&s| s).count();
         mixed += usize::from(stand_ins > 0 && stand_ins < data.c.nrows());
         for (i, &value) in out.iter().enumerate() {
@@ -192,6 +210,8 @@ fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>)
     let (n, m) = (data.c.ncols(), data.c.nrows());
     let settings = PdasSettings::default();
     let (lower, upper) = (-0.02, 0.02);
+    let heights = flat(data.c.nrows());
+    let box_ = bounds(lower, upper, &heights);
     let (mut solved, mut with_stand_ins, mut repeated) = (0, 0, 0);
     for case in 0..3000 {
         let amplitude = 5e-3 * 1.1f64.powi((case % 50) as i32);
@@ -207,14 +227,14 @@ fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>)
             step: fast.step(false),
             moved_squared: f64::INFINITY,
         };
-        let Some(unproven) = predicted.screen(&q, lower, upper) else {
+        let Some(unproven) = predicted.screen(&q, box_) else {
             continue;
         };
         if exact.iter().all(|&y| (lower..=upper).contains(&y)) {
             continue;
         }
         let mut values = vec![0.0; m];
-        let valued = unproven.values(&q, [lower, upper], &mut values);
+        let valued = unproven.values(&q, box_, &mut values);
         let stand_ins = valued
             .step
             .screening

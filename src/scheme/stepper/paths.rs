@@ -109,43 +109,46 @@ impl Run {
         trial: &mut Trial,
     ) -> Route<'a> {
         let auto = self.scene.solver.qp == QpChoice::Auto;
-        let [lower, upper] = input.obstacles;
+        let bounds = self.bounds(input);
         // A prediction within the obstacles closes no contact, so it satisfies the bounds of
         // either impact law.
         if values.is_empty() {
             return Route::Screened(prediction.keep());
         }
         let values = if auto {
-            match prediction.screen(lower, upper) {
+            match prediction.screen(bounds) {
                 Screened::Proven(fields) => return Route::Screened(fields),
                 // The active-set method on the position and persistent laws solves from
                 // stand-ins where they are proven inside the obstacles, hence cross none (see
                 // `Unproven::values`); Newton's law reads the exact prediction of every vertex.
                 Screened::Unproven(unproven) if !matches!(self.law, Law::Newton(_)) => {
-                    unproven.values(values)
+                    unproven.values(values, bounds)
                 }
                 Screened::Unproven(unproven) => unproven.exact_values(values),
             }
         } else {
             prediction.exact_values(values)
         };
-        trial.lower.fill(lower);
-        trial.upper.fill(upper);
-        let feasible = values.values().iter().all(|&w| w >= lower && w <= upper);
+        for (i, (lower, upper)) in trial.lower.iter_mut().zip(&mut trial.upper).enumerate() {
+            (*lower, *upper) = (bounds.lower(i), bounds.upper(i));
+        }
+        let feasible = values
+            .values()
+            .iter()
+            .enumerate()
+            .all(|(i, &w)| bounds.admits(i, w));
         // The laws change only the bounds of vertices whose prediction crosses an obstacle: a
         // step without any keeps the obstacles' bounds and costs nothing more. The start step
         // keeps them under the persistent law (the plate is released at rest).
         match (feasible, self.law) {
-            (false, Law::Newton(e)) => {
-                self.apply_newton_law(e, input.base_next, &values, history, trial)
-            }
+            (false, Law::Newton(e)) => self.apply_newton_law(e, input, &values, history, trial),
             (false, Law::Persistent(e)) if !input.forcing.start => {
                 let fields = values.fields();
                 for (i, &w) in values.values().iter().enumerate() {
-                    if w < lower {
+                    if w < bounds.lower(i) {
                         trial.lower[i] =
                             self.persistent_bound(e, input, fields, i, ObstacleSide::Lower);
-                    } else if w > upper {
+                    } else if w > bounds.upper(i) {
                         trial.upper[i] =
                             self.persistent_bound(e, input, fields, i, ObstacleSide::Upper);
                     }
@@ -170,22 +173,24 @@ impl Run {
     fn apply_newton_law(
         &self,
         e: f64,
-        base_next: f64,
+        input: &StepInput,
         values: &Values,
         history: &mut VertexHistory,
         trial: &mut Trial,
     ) {
-        let lower = self.scene.lower_obstacle().map(|g| g - base_next);
-        let upper = self.scene.upper_obstacle().map(|g| g - base_next);
-        let [z_prev, z_curr] = self.base.map(|z| z - base_next);
+        let bounds = self.bounds(input);
+        let [z_prev, z_curr] = self.base.map(|z| z - input.base_next);
         let fields = values.fields();
         let (previous, current) = history.values(fields.maps, fields.previous, fields.current);
+        // An absent obstacle's bound is ∓∞ here.
+        let present = |g: f64| g.is_finite().then_some(g);
         for (i, &predicted) in values.values().iter().enumerate() {
             let motion = VertexMotion {
                 previous: z_prev + previous[i],
                 current: z_curr + current[i],
                 predicted,
             };
+            let (lower, upper) = (present(bounds.lower(i)), present(bounds.upper(i)));
             [trial.lower[i], trial.upper[i]] = newton_bounds(e, lower, upper, motion);
         }
     }
@@ -202,7 +207,8 @@ impl Run {
         i: usize,
         side: ObstacleSide,
     ) -> f64 {
-        let [lower, upper] = input.obstacles;
+        let bounds = self.bounds(input);
+        let (lower, upper) = (bounds.lower(i), bounds.upper(i));
         let [z_prev, z_curr] = self.base.map(|z| z - input.base_next);
         let previous = z_prev + fields.maps.constrained_value(fields.previous, i);
         let current = z_curr + fields.maps.constrained_value(fields.current, i);
@@ -235,9 +241,10 @@ impl Run {
             Law::Persistent(e) if !input.forcing.start => e,
             _ => return false,
         };
-        let [lower, upper] = input.obstacles;
+        let bounds = self.bounds(input);
         let mut grew = false;
         for (i, &mu) in mu.iter().enumerate() {
+            let (lower, upper) = (bounds.lower(i), bounds.upper(i));
             if mu > 0.0 && trial.lower[i] == lower {
                 let bound = self.persistent_bound(e, input, fields, i, ObstacleSide::Lower);
                 if bound > lower {
@@ -304,7 +311,7 @@ impl Run {
         mut values: Values<'a>,
         trial: &mut Trial,
     ) -> Result<Solved<'a>, Error> {
-        let tolerance = ACTIVE_SET_BOUND_TOLERANCE * self.scene.gap();
+        let tolerance = ACTIVE_SET_BOUND_TOLERANCE * self.gap();
         trial.states.copy_from_slice(&self.states);
         let settings = &self.active_set_settings;
         let mut resolves = 0;
@@ -397,7 +404,7 @@ impl Run {
         fields: &StepFields,
         trial: &mut Trial,
     ) -> Result<(), Error> {
-        let tolerance = RESTORE_BOUND_TOLERANCE * self.scene.gap();
+        let tolerance = RESTORE_BOUND_TOLERANCE * self.gap();
         match trial.first_past_bound(fields, tolerance) {
             None => Ok(()),
             Some(past) => Err(Error::ContactSolver(format!(
@@ -432,7 +439,7 @@ impl Run {
         let (solution, warning) = solve_reference(&BoxQp {
             a: free.system_matrix(forcing.start).as_ref(),
             b: &b,
-            constrained: &free.constrained,
+            rows: &free.contact,
             lower: &trial.lower,
             upper: &trial.upper,
         })?;
