@@ -48,6 +48,7 @@ enum TypedVariable {
     Int32(VariableElement),
     UInt64(VariableElement),
     Boolean(VariableElement),
+    String(VariableElement),
 }
 
 #[derive(Debug, Deserialize)]
@@ -76,6 +77,15 @@ struct VariableElement {
     intermediate_update: Option<bool>,
     #[serde(rename = "Dimension", default)]
     dimensions: Vec<DimensionElement>,
+    /// A String's start: `<Start value="…"/>` elements (one per element of an array).
+    #[serde(rename = "Start", default)]
+    start_elements: Vec<StartElement>,
+}
+
+#[derive(Debug, Deserialize)]
+struct StartElement {
+    #[serde(rename = "@value")]
+    value: String,
 }
 
 #[derive(Debug, Deserialize)]
@@ -187,9 +197,10 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
     })
 }
 
-/// One `<Float64>`, `<Int32>`, `<UInt64>` or `<Boolean>` element: the checks shared with FMI 2.0
-/// ([`check_variable`]), its `<Dimension>`s, and the FMI 3.0 rules on intermediateUpdate and
-/// structural parameters.
+/// One `<Float64>`, `<Int32>`, `<UInt64>`, `<Boolean>` or `<String>` element: the checks shared
+/// with FMI 2.0 ([`check_variable`]), its `<Dimension>`s, and the FMI 3.0 rules on
+/// intermediateUpdate, structural parameters and String starts (a `<Start>` element, not an
+/// attribute).
 fn check_fmi3_variable(
     typed: TypedVariable,
     units: &BTreeSet<String>,
@@ -201,11 +212,23 @@ fn check_fmi3_variable(
         TypedVariable::Int32(e) => (Kind::Integer, e),
         TypedVariable::UInt64(e) => (Kind::UInt64, e),
         TypedVariable::Boolean(e) => (Kind::Boolean, e),
+        TypedVariable::String(e) => (Kind::String, e),
     };
     let who = format!(
         "variable {:?} (valueReference {})",
         e.name, e.value_reference
     );
+    let start = match (kind, &e.start_elements[..]) {
+        (Kind::String, []) => None,
+        (Kind::String, [start]) if e.start.is_none() => Some(start.value.clone()),
+        (Kind::String, _) => {
+            return Err(format!(
+                "{who}: a scalar String takes its start as one <Start value=\"…\"/> element"
+            ))
+        }
+        (_, []) => e.start,
+        (_, _) => return Err(format!("{who}: only a String has <Start> elements")),
+    };
     let dimensions = e
         .dimensions
         .iter()
@@ -226,7 +249,7 @@ fn check_fmi3_variable(
         variability: e.variability,
         initial: e.initial,
         attrs: TypeAttrs {
-            start: e.start,
+            start,
             min: e.min,
             max: e.max,
             unit: e.unit,

@@ -26,6 +26,10 @@ use std::collections::HashMap;
 /// of a stop is merged into a vertex or another own point there.
 pub const MERGE_FRACTION: f64 = 0.05;
 
+/// The number of stops with outputs of their own (`stop1` … `stop8`): the first of the lower
+/// obstacle's stops, then the upper's. Further stops act all the same, and count in the totals.
+pub const STOP_OUTPUTS: usize = 8;
+
 /// Largest number of own points (points that are not mesh vertices) the stops of one obstacle
 /// may add: each is a row of the contact problem, and the modal backend holds a dense row of
 /// the modes for each.

@@ -10,6 +10,9 @@ use crate::obstacles::ObstacleLayout;
 use crate::scene::{ClampedEdges, Scene, PROBES};
 use faer::sparse::SparseColMat;
 
+/// The number of natural frequencies the FMU reports (`mode1.frequency` … `mode6.frequency`).
+pub const FREQUENCIES: usize = 6;
+
 /// The number of points whose displacement the FMU reports: the three of the paper's figures and
 /// the probes.
 pub const OUTPUT_POINTS: usize = 3 + PROBES;

@@ -18,7 +18,7 @@ use plate_impact::fmi::host_check::fmi2::{instantiate, Fmi2Host};
 use plate_impact::fmi::host_check::fmi3::Fmi3Host;
 use plate_impact::fmi::host_check::{
     check_call, check_sequence, value_references, Host, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS,
-    TIMES,
+    TEXTS, TIMES,
 };
 use plate_impact::fmi::variables::{vr, Description, Kind, FMI2, FMI3};
 use proptest::prelude::*;
@@ -33,6 +33,7 @@ fn op(d: &'static Description) -> impl Strategy<Value = Op> {
     let integer = prop::sample::select(value_references(d, Kind::Integer));
     let uint64 = prop::sample::select(value_references(d, Kind::UInt64));
     let boolean = prop::sample::select(value_references(d, Kind::Boolean));
+    let string = prop::sample::select(value_references(d, Kind::String));
     let time = prop::sample::select(TIMES);
     let slot = 0..SLOTS;
     prop_oneof![
@@ -48,6 +49,9 @@ fn op(d: &'static Description) -> impl Strategy<Value = Op> {
         1 => prop::collection::vec((uint64, prop::sample::select(SIZES)), 1..3)
             .prop_map(Op::SetUInt64),
         1 => prop::collection::vec((boolean, any::<bool>()), 1..3).prop_map(Op::SetBoolean),
+        1 => prop::collection::vec((string, prop::sample::select(TEXTS)), 1..3).prop_map(|items| {
+            Op::SetString(items.into_iter().map(|(r, t)| (r, t.to_string())).collect())
+        }),
         8 => (
             prop::sample::select(STEPS),
             prop::bool::weighted(0.1)

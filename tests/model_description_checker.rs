@@ -53,9 +53,9 @@ fn disagrees(xml3: &str, words: &[&str]) {
 #[test]
 fn the_shipped_descriptions_pass_agree_and_generate_the_tables() {
     let model = check(XML).unwrap();
-    assert_eq!(model.variables.len(), 47);
+    assert_eq!(model.variables.len(), 98);
     let model3 = check_fmi3(XML3).unwrap();
-    assert_eq!(model3.variables.len(), 51);
+    assert_eq!(model3.variables.len(), 102);
     check_same_variables(&model, &model3).unwrap();
     let code = generate(&model, &model3);
     assert!(code.contains("pub const PLATE_LENGTH: u32 = 1;"), "{code}");
@@ -65,6 +65,8 @@ fn the_shipped_descriptions_pass_agree_and_generate_the_tables() {
     assert!(code.contains("pub const DAMPING_ALPHA: u32 = 22;"));
     assert!(code.contains("pub const SOLVER_FREE_DOFS: u32 = 24;"));
     assert!(code.contains("pub const SOLVER_BACKEND: u32 = 25;"));
+    assert!(code.contains("pub const PLATE_CLAMP: u32 = 100;"));
+    assert!(code.contains(r#"Some(Start::String("flat"))"#), "{code}");
     assert!(
         code.contains("pub const FMI2: Description")
             && code.contains("pub const FMI3: Description")
@@ -143,7 +145,12 @@ fn missing_or_forbidden_start() {
         &["base.displacement", "start value is required"],
     );
     rejected(
-        &broken(r#"<Real unit="N.s"/>"#, r#"<Real unit="N.s" start="0"/>"#),
+        &broken(
+            r#"contact.impulse" valueReference="66" causality="output" variability="continuous" description="sum over the internal steps of the last communication step of the total contact force times the time step">
+      <Real unit="N.s"/>"#,
+            r#"contact.impulse" valueReference="66" causality="output" variability="continuous" description="sum over the internal steps of the last communication step of the total contact force times the time step">
+      <Real unit="N.s" start="0"/>"#,
+        ),
         &["contact.impulse", "not allowed"],
     );
 }

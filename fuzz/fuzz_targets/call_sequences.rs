@@ -12,7 +12,7 @@
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use plate_impact::fmi::host_check::{
-    fuzz_init, fuzz_sequence, value_references, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS, TIMES,
+    fuzz_init, fuzz_sequence, value_references, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS, TEXTS, TIMES,
 };
 use plate_impact::fmi::variables::{Description, Kind, FMI2, FMI3};
 
@@ -52,7 +52,7 @@ fn items<T>(
 
 fn op(u: &mut Unstructured, d: &Description) -> Result<Op> {
     let slot = |u: &mut Unstructured| u.choose_index(SLOTS);
-    Ok(match u.int_in_range(0..=17u8)? {
+    Ok(match u.int_in_range(0..=18u8)? {
         0 => Op::SetupExperiment(
             real(u, TIMES)?,
             u.arbitrary::<bool>()?.then_some(real(u, TIMES)?),
@@ -80,7 +80,10 @@ fn op(u: &mut Unstructured, d: &Description) -> Result<Op> {
             0 => Op::SerializeRoundTrip(slot(u)?),
             _ => Op::CorruptState(slot(u)?, u.arbitrary()?, u.int_in_range(1..=255)?),
         },
-        _ => Op::Logging(u.arbitrary()?, u.arbitrary()?),
+        17 => Op::Logging(u.arbitrary()?, u.arbitrary()?),
+        _ => Op::SetString(items(u, d, Kind::String, |u| {
+            u.choose(TEXTS).map(|t| t.to_string())
+        })?),
     })
 }
 

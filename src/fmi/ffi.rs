@@ -32,6 +32,27 @@ pub unsafe fn owned_c_str(p: *const c_char) -> String {
     unsafe { c_str(p) }.map_or_else(String::new, Cow::into_owned)
 }
 
+/// The texts of a C array of string arguments, each checked: a null pointer or a text that is
+/// not UTF-8 is refused, naming its place.
+///
+/// # Safety
+/// Every non-null pointer of `values` must point to a NUL-terminated string valid for the call.
+pub unsafe fn texts<'a>(values: &[*const c_char]) -> Result<Vec<&'a str>, Failure> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(k, &p)| {
+            if p.is_null() {
+                return Err(null_argument(&format!("value[{k}]")));
+            }
+            // SAFETY: non-null, and NUL-terminated by the caller's contract.
+            unsafe { CStr::from_ptr(p) }
+                .to_str()
+                .map_err(|e| Failure::refused(format!("the text value[{k}] is not UTF-8 ({e})")))
+        })
+        .collect()
+}
+
 /// A slice from a C array of `n` elements; an empty slice for n = 0 whatever the pointer.
 ///
 /// # Safety

@@ -6,14 +6,16 @@
 //! these methods.
 
 use super::call_state::{CallState, CallTable};
+use super::ffi;
 use super::logger::{LogSink, Logger, LOG_ALL, LOG_ERROR, LOG_WARNING};
-use super::model::{self, Checked, Model, Phase, StepOptions, StepOutcome, Value};
+use super::model::{self, Checked, Model, Phase, Setting, StepOptions, StepOutcome, Value};
 use super::serialized;
 use super::status::{Failure, Status};
 use super::variables::{Causality, Description, Dimension, Kind, Start, Variable};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
+use std::ffi::CString;
 
 /// The kinds the Integer get and set functions serve.
 const INTEGERS: &[Kind] = &[Kind::Integer, Kind::Enumeration];
@@ -125,6 +127,8 @@ pub struct Instance<V: Version, M: Model> {
     model: M,
     /// The values of the description's structural parameters, in its order.
     sizes: Vec<u64>,
+    /// The texts of the last String get, which the host may read until its next call.
+    texts: Vec<CString>,
 }
 
 /// The start values of the structural parameters of `description`, in its order.
@@ -168,6 +172,7 @@ impl<V: Version, M: Model> Instance<V, M> {
             mode: V::INSTANTIATED,
             model: M::new(),
             sizes: start_sizes(description),
+            texts: Vec::new(),
         })
     }
 
@@ -434,28 +439,48 @@ impl<V: Version, M: Model> Instance<V, M> {
         })
     }
 
+    /// Get of String values: the texts, which the instance keeps until its next String get (the
+    /// host copies them before its next call, as FMI requires). A NUL inside a text is
+    /// returned as `\0`.
+    pub fn get_string(&mut self, vrs: &[u32]) -> Result<&[CString], Failure> {
+        let phase = self.enter(V::getter(Kind::String))?;
+        let mut texts = Vec::with_capacity(vrs.len());
+        for &vr in vrs {
+            let v = self.variable(vr, &[Kind::String])?;
+            texts.push(ffi::to_cstring(&self.model.get_string(v, phase)?));
+        }
+        self.texts = texts;
+        Ok(&self.texts)
+    }
+
     /// Set of Real values: every value is checked before any is applied.
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), Failure> {
-        let items = values.iter().map(|&x| Value::Real(x));
+        let items = values.iter().map(|&x| Setting::Value(Value::Real(x)));
         self.set(&[Kind::Real], vrs, values.len(), items)
     }
 
     /// Set of Integer values (and enumerations): all values or none.
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<(), Failure> {
-        let items = values.iter().map(|&i| Value::Integer(i));
+        let items = values.iter().map(|&i| Setting::Value(Value::Integer(i)));
         self.set(INTEGERS, vrs, values.len(), items)
     }
 
     /// Set of fmi3UInt64 values (the structural parameters): all values or none.
     pub fn set_uint64(&mut self, vrs: &[u32], values: &[u64]) -> Result<(), Failure> {
-        let items = values.iter().map(|&n| Value::UInt64(n));
+        let items = values.iter().map(|&n| Setting::Value(Value::UInt64(n)));
         self.set(&[Kind::UInt64], vrs, values.len(), items)
     }
 
     /// Set of Boolean values: all values or none.
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<(), Failure> {
-        let items = values.iter().map(|&b| Value::Boolean(b));
+        let items = values.iter().map(|&b| Setting::Value(Value::Boolean(b)));
         self.set(&[Kind::Boolean], vrs, values.len(), items)
+    }
+
+    /// Set of String values: all texts or none.
+    pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<(), Failure> {
+        let items = values.iter().map(|&text| Setting::Text(text));
+        self.set(&[Kind::String], vrs, values.len(), items)
     }
 
     /// Refuses any value reference for a function of a type the model has no variable of (the
@@ -478,12 +503,12 @@ impl<V: Version, M: Model> Instance<V, M> {
     /// the draft applied, so a refused call changes nothing. Every settable variable is a scalar,
     /// so there is one value per value reference. Structural parameters are the instance's,
     /// within their declared range.
-    fn set(
+    fn set<'t>(
         &mut self,
         kinds: &[Kind],
         vrs: &[u32],
         n_values: usize,
-        values: impl Iterator<Item = Value>,
+        values: impl Iterator<Item = Setting<'t>>,
     ) -> Result<(), Failure> {
         let phase = self.enter(V::setter(kinds[0]))?;
         if n_values != vrs.len() {
@@ -503,10 +528,12 @@ impl<V: Version, M: Model> Instance<V, M> {
                     v.name
                 )));
             }
-            if v.causality == Causality::StructuralParameter {
-                stage_size(&mut sizes, V::description::<M>(), v, value)?;
-            } else {
-                self.model.stage(&mut draft, v, value, phase)?;
+            match value {
+                Setting::Value(value) if v.causality == Causality::StructuralParameter => {
+                    stage_size(&mut sizes, V::description::<M>(), v, value)?
+                }
+                Setting::Value(value) => self.model.stage(&mut draft, v, value, phase)?,
+                Setting::Text(text) => self.model.stage_string(&mut draft, v, text, phase)?,
             }
         }
         self.model.commit(draft, phase)?;

@@ -52,6 +52,15 @@ pub enum Value {
     Boolean(bool),
 }
 
+/// One value to set: typed as [`Value`], or a text (a String variable).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Setting<'a> {
+    /// A scalar of a non-String type.
+    Value(Value),
+    /// The text of a String variable.
+    Text(&'a str),
+}
+
 /// The values of an array variable: its shape (outermost dimension first) and its elements in
 /// row-major order.
 #[derive(Clone, Debug, PartialEq)]
@@ -126,6 +135,9 @@ pub trait Model: Send + Sized {
     /// The values of array `variable`, a Real output.
     fn get_array(&mut self, variable: &Variable, phase: Phase) -> Result<Array<'_>, Failure>;
 
+    /// The text of String `variable` (its kind already checked by the caller).
+    fn get_string(&mut self, variable: &Variable, phase: Phase) -> Result<String, Failure>;
+
     /// The derivative of order `order` (≥ 1) of output `variable` at the current time, a Real.
     fn output_derivative(
         &mut self,
@@ -144,6 +156,15 @@ pub trait Model: Send + Sized {
         draft: &mut Self::Draft,
         variable: &Variable,
         value: Value,
+        phase: Phase,
+    ) -> Result<(), Failure>;
+
+    /// As [`Model::stage`] for the text `value` of String `variable`.
+    fn stage_string(
+        &self,
+        draft: &mut Self::Draft,
+        variable: &Variable,
+        value: &str,
         phase: Phase,
     ) -> Result<(), Failure>;
 

@@ -29,6 +29,7 @@ pub mod band;
 pub mod bulge;
 pub mod divide;
 pub mod large;
+pub mod lowest;
 pub mod shapes;
 
 pub use shapes::ModeShapes;

@@ -275,12 +275,15 @@ impl ClampedEdges {
                 }
                 let flags = self.side(side);
                 let h = side.length(self.size) / flags.len() as f64;
-                // The mesh edges k with k h − tolerance ≤ along ≤ (k + 1) h + tolerance.
-                let first = ((along - tolerance) / h).ceil() - 1.0;
-                let last = ((along + tolerance) / h).floor();
-                let first = first.max(0.0) as usize;
-                let last = (last.max(-1.0) as isize).min(flags.len() as isize - 1);
-                (first as isize..=last).any(|k| flags[k as usize])
+                // The mesh edges k with k h − tolerance ≤ along ≤ (k + 1) h + tolerance (none
+                // for a point at no finite place along the side).
+                let (low, high) = ((along - tolerance) / h - 1.0, (along + tolerance) / h);
+                if !(low.is_finite() && high.is_finite()) {
+                    return false;
+                }
+                let first = low.ceil().max(0.0);
+                let last = high.floor().min((flags.len() - 1) as f64);
+                first <= last && (first as usize..=last as usize).any(|k| flags[k])
             })
             .collect()
     }

@@ -1,5 +1,6 @@
 //! What the FMU and the examples read after each step.
 
+use crate::obstacles::STOP_OUTPUTS;
 use serde::{Deserialize, Serialize};
 
 /// What the FMU and the examples report after each step (the FMU outputs of docs/fmu.md).
@@ -51,6 +52,10 @@ pub struct Outputs {
     /// u at `probe4` (m).
     #[serde(default)]
     pub probe4: f64,
+    /// The total contact force of each of the first stops after the last step (N), 0 for a stop
+    /// that does not exist.
+    #[serde(default)]
+    pub stop_forces: [f64; STOP_OUTPUTS],
 }
 
 impl Outputs {
@@ -72,11 +77,12 @@ macro_rules! real_fields {
             }
 
             /// The outputs whose real fields are f(self's value, `other`'s value), field by
-            /// field, with the vertex count of `self`.
+            /// field, with the vertex count and the stops' forces of `self`.
             pub fn zip_reals(&self, other: &Outputs, f: impl Fn(f64, f64) -> f64) -> Outputs {
                 Outputs {
                     $($field: f(self.$field, other.$field),)*
                     active_nodes: self.active_nodes,
+                    stop_forces: self.stop_forces,
                 }
             }
         }

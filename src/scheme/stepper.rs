@@ -29,11 +29,13 @@ pub use super::state::{RESTORE_BOUND_TOLERANCE, RESTORE_FORCE_TOLERANCE};
 use crate::budget::{MemoryEstimate, DEFAULT_MEMORY_BUDGET};
 use crate::contact::{BoundState, PdasSettings};
 use crate::error::Error;
+use crate::obstacles::STOP_OUTPUTS;
 use crate::scene::{LinearChoice, ObstacleSide, Scene};
 use crate::system::{PlateSystem, OUTPUT_POINTS};
 use closing::Closing;
 use paths::{Route, Solved};
 use serde::{Deserialize, Serialize};
+use std::cell::OnceCell;
 use std::sync::Arc;
 use workspace::StepWorkspace;
 
@@ -80,6 +82,41 @@ pub struct StepReport {
     /// which has no exact energy identity (its equation is not the scheme's, see
     /// docs/scheme.md §12): [`Outputs`] sums the flows from the second step on.
     pub flows: EnergyFlows,
+    /// The total contact force of each of the first [`STOP_OUTPUTS`] stops in this step (N; 0
+    /// for a stop that does not exist).
+    pub stop_forces: [f64; STOP_OUTPUTS],
+    /// Whether the set of a stop's points in contact went from empty to non-empty in this step,
+    /// for the first [`STOP_OUTPUTS`] stops.
+    pub stop_impacts: [bool; STOP_OUTPUTS],
+}
+
+/// The contact force (N) and the number of points in contact of each stop, from the contact
+/// states and forces of the points: a point in contact with an obstacle counts for the stop of
+/// that obstacle it belongs to ([`FreeSystem::point_stops`]).
+fn stop_contact(
+    free: &FreeSystem,
+    states: &[BoundState],
+    forces: &[f64],
+) -> (Vec<f64>, Vec<usize>) {
+    let mut force = vec![0.0; free.stop_count];
+    let mut active = vec![0; free.stop_count];
+    for ((state, &f), stops) in states.iter().zip(forces).zip(&free.point_stops) {
+        let stop = match state {
+            BoundState::AtLower => stops[0],
+            BoundState::AtUpper => stops[1],
+            BoundState::Free => None,
+        };
+        if let Some(k) = stop {
+            force[k] += f;
+            active[k] += 1;
+        }
+    }
+    (force, active)
+}
+
+/// The first [`STOP_OUTPUTS`] entries of `values`, 0 past its end.
+fn first_stops(values: &[f64]) -> [f64; STOP_OUTPUTS] {
+    std::array::from_fn(|k| values.get(k).copied().unwrap_or(0.0))
 }
 
 /// Relative tolerance of the obstacle bounds when an obstacle is moved: 1e-12 of the gap
@@ -125,6 +162,8 @@ pub struct Stepper {
     history: VertexHistory,
     /// The buffers a step works in.
     work: StepWorkspace,
+    /// ω² of the lowest modes, computed on the first ask ([`Stepper::natural_frequencies`]).
+    lowest_modes: OnceCell<Result<Vec<f64>, Error>>,
 }
 
 /// A stepper's scene, plate and settings, and what its steps so far left apart from the fields:
@@ -149,6 +188,8 @@ struct Run {
     initial_warning: Option<String>,
     /// Vertices in contact after the last step.
     active_count: usize,
+    /// Points in contact of each stop after the last step.
+    stop_active: Vec<usize>,
     /// (m₁ᵀw_{n−1}, m₁ᵀw_n): the mass-weighted sums of the two levels, for G_n.
     mass_weighted_sums: [f64; 2],
     /// −G of the last step (N).
@@ -204,6 +245,7 @@ impl Stepper {
             scene: scene.clone(),
             current_norm_squared: sums.norm_squared,
             active_count: preload.states.iter().filter(|s| s.is_active()).count(),
+            stop_active: stop_contact(&free, &preload.states, &preload.forces).1,
             mass_weighted_sums: [sums.translation; 2],
             base_force,
             base_impulse: 0.0,
@@ -226,6 +268,7 @@ impl Stepper {
             levels: TimeLevels::at_rest(field),
             history: VertexHistory::new(m),
             work: StepWorkspace::new(m),
+            lowest_modes: OnceCell::new(),
         })
     }
 
@@ -257,6 +300,27 @@ impl Stepper {
     /// Number of contact points (0 without obstacles).
     pub fn constrained_count(&self) -> usize {
         self.run.free.contact.len()
+    }
+
+    /// The natural frequencies f_k = ω_k/2π (Hz) of the `count` lowest modes of the plate as set
+    /// up, clamped and without contact (fewer when it has fewer dofs): from the eigenbasis of the
+    /// modal backend, or computed on the first ask by subspace iteration
+    /// ([`crate::modes::lowest`]) on the sparse backend's meshes. An error when that iteration
+    /// does not converge.
+    pub fn natural_frequencies(&self, count: usize) -> Result<Vec<f64>, Error> {
+        let to_hz = |w2: &f64| w2.max(0.0).sqrt() / std::f64::consts::TAU;
+        if let Some(omega_squared) = self.backend.maps().omega_squared() {
+            return Ok(omega_squared.iter().take(count).map(to_hz).collect());
+        }
+        let free = &self.run.free;
+        let lowest = self.lowest_modes.get_or_init(|| {
+            crate::modes::lowest::lowest_omega_squared(
+                &free.mass,
+                &free.stiffness,
+                crate::system::FREQUENCIES,
+            )
+        });
+        Ok(lowest.clone()?.iter().take(count).map(to_hz).collect())
     }
 
     /// The obstacles' heights over the contact points, [h₁, h₂] relative to the levels (−∞ and +∞
@@ -354,6 +418,12 @@ impl Stepper {
         &self.run.forces
     }
 
+    /// The total contact force of each stop after the last step (N), the lower obstacle's stops
+    /// first ([`crate::obstacles::ObstacleLayout::stops`]); empty without stops.
+    pub fn stop_forces(&self) -> Vec<f64> {
+        stop_contact(&self.run.free, &self.run.states, &self.run.forces).0
+    }
+
     /// Vertices in contact after the last step (at n = 0, of the preload): `active_nodes` of
     /// [`Stepper::outputs`], kept up to date by every step and restore, read without the O(n)
     /// outputs.
@@ -442,6 +512,7 @@ impl Stepper {
             levels,
             history,
             work,
+            ..
         } = self;
         let input = run.step_input(base_next)?;
         let prediction = backend.predict(levels, &input.forcing)?;
@@ -514,6 +585,15 @@ impl Stepper {
         run.current_norm_squared = sums.norm_squared;
         let impact = run.active_count == 0 && active > 0;
         run.active_count = active;
+        let (mut stop_forces, mut stop_impacts) = ([0.0; STOP_OUTPUTS], [false; STOP_OUTPUTS]);
+        if run.free.stop_count > 0 {
+            let (forces, now) = stop_contact(&run.free, &run.states, &run.forces);
+            stop_forces = first_stops(&forces);
+            for (k, impact) in stop_impacts.iter_mut().enumerate().take(now.len()) {
+                *impact = run.stop_active[k] == 0 && now[k] > 0;
+            }
+            run.stop_active = now;
+        }
         run.mass_weighted_sums = [run.mass_weighted_sums[1], sums.translation];
         run.base_force = closing.base_force;
         run.base_impulse = closing.base_impulse;
@@ -531,6 +611,8 @@ impl Stepper {
             impact,
             resolves: decision.resolves,
             flows: closing.flows,
+            stop_forces,
+            stop_impacts,
         }
     }
 
@@ -567,6 +649,7 @@ impl Stepper {
             probe2: z + p2,
             probe3: z + p3,
             probe4: z + p4,
+            stop_forces: first_stops(&self.stop_forces()),
         }
     }
 
@@ -629,6 +712,7 @@ impl Stepper {
             sums.translation,
         ];
         self.run.active_count = states.iter().filter(|s| s.is_active()).count();
+        self.run.stop_active = stop_contact(&self.run.free, &states, &state.forces).1;
         self.run.base_force = state.base_force;
         self.run.base_impulse = state.base_impulse;
         self.run.flows = state.flows;

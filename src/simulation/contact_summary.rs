@@ -11,10 +11,13 @@
 //! * impulse = Σ F_n Δt (N·s), the rectangle rule of ∫ F dt on the grid: summed over consecutive
 //!   communication steps it is the same whatever their sizes;
 //! * peak force = the F_n of largest magnitude, with its sign (0 without a step; the first of
-//!   equal magnitudes).
+//!   equal magnitudes);
+//! * and the impacts and impulse of each of the first stops alike, from its own points' contact
+//!   and forces.
 //!
 //! Each step adds to the summary in O(1).
 
+use crate::obstacles::STOP_OUTPUTS;
 use serde::{Deserialize, Serialize};
 
 /// Contact over a set of internal steps (module docs).
@@ -26,6 +29,19 @@ pub struct ContactSummary {
     pub impulse: f64,
     /// The F_n of largest magnitude, signed (N).
     pub peak_force: f64,
+    /// The same per stop, for the first [`STOP_OUTPUTS`] stops (absent from states saved before
+    /// stops existed: none).
+    #[serde(default)]
+    pub stops: [StopSummary; STOP_OUTPUTS],
+}
+
+/// The contact of one stop over a set of internal steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StopSummary {
+    /// Steps at which the stop's points in contact went from none to some.
+    pub impacts: u64,
+    /// Σ F_n Δt of the stop's force (N·s).
+    pub impulse: f64,
 }
 
 impl ContactSummary {
@@ -39,12 +55,30 @@ impl ContactSummary {
         }
     }
 
+    /// Adds the stops' contact of a step of length `dt` (s): each stop's force (N) and whether
+    /// it was an impact of that stop.
+    pub fn add_stops(
+        &mut self,
+        forces: &[f64; STOP_OUTPUTS],
+        impacts: &[bool; STOP_OUTPUTS],
+        dt: f64,
+    ) {
+        for ((stop, &force), &impact) in self.stops.iter_mut().zip(forces).zip(impacts) {
+            stop.impacts += u64::from(impact);
+            stop.impulse += force * dt;
+        }
+    }
+
     /// Adds the steps summarised by `other`, which come after these.
     pub fn merge(&mut self, other: &ContactSummary) {
         self.impacts += other.impacts;
         self.impulse += other.impulse;
         if other.peak_force.abs() > self.peak_force.abs() {
             self.peak_force = other.peak_force;
+        }
+        for (stop, later) in self.stops.iter_mut().zip(&other.stops) {
+            stop.impacts += later.impacts;
+            stop.impulse += later.impulse;
         }
     }
 
@@ -55,16 +89,19 @@ impl ContactSummary {
         if steps == 0 && *self != ContactSummary::default() {
             return Err(format!("{what}: {self:?} must be empty, it covers no step"));
         }
-        if !(self.impulse.is_finite() && self.peak_force.is_finite()) {
+        let stops_finite = self.stops.iter().all(|s| s.impulse.is_finite());
+        if !(self.impulse.is_finite() && self.peak_force.is_finite() && stops_finite) {
             return Err(format!(
-                "{what}: impulse {} N s and peak force {} N must be finite",
+                "{what}: impulse {} N s, peak force {} N and the stops' impulses must be finite",
                 self.impulse, self.peak_force
             ));
         }
-        if self.impacts > steps {
+        if let Some(impacts) = std::iter::once(self.impacts)
+            .chain(self.stops.iter().map(|s| s.impacts))
+            .find(|&impacts| impacts > steps)
+        {
             return Err(format!(
-                "{what}: {} impacts in at most {steps} internal steps",
-                self.impacts
+                "{what}: {impacts} impacts in at most {steps} internal steps"
             ));
         }
         Ok(())
@@ -104,13 +141,29 @@ mod tests {
 
     #[test]
     fn untrusted_summaries_are_checked() {
-        let good = ContactSummary {
+        let mut good = ContactSummary {
             impacts: 2,
             impulse: 1.0,
             peak_force: -3.0,
+            ..ContactSummary::default()
         };
+        good.add_stops(&[2.0; STOP_OUTPUTS], &[true; STOP_OUTPUTS], 0.5);
         assert!(good.check("reported", 2).is_ok());
         assert!(good.check("reported", 1).unwrap_err().contains("2 impacts"));
+        let mut stop_bad = good;
+        stop_bad.stops[3].impacts = 3;
+        assert!(stop_bad
+            .check("reported", 2)
+            .unwrap_err()
+            .contains("3 impacts"));
+        stop_bad.stops[3] = StopSummary {
+            impacts: 0,
+            impulse: f64::INFINITY,
+        };
+        assert!(stop_bad
+            .check("reported", 2)
+            .unwrap_err()
+            .contains("finite"));
         let bad = ContactSummary {
             impulse: f64::NAN,
             ..good

@@ -49,8 +49,8 @@ pub enum CommunicationPoint {
     Between {
         /// t − t_start (s).
         elapsed: f64,
-        /// The outputs at t_{N−1}.
-        previous: Outputs,
+        /// The outputs at t_{N−1} (boxed: they are far larger than the other variant).
+        previous: Box<Outputs>,
     },
 }
 
@@ -174,6 +174,7 @@ mod tests {
             probe2: 12.0 * x,
             probe3: 13.0 * x,
             probe4: 14.0 * x,
+            stop_forces: [15.0 * x; crate::obstacles::STOP_OUTPUTS],
         }
     }
 
@@ -183,6 +184,10 @@ mod tests {
         let mid = interpolate(&a, &b, 0.25);
         assert_eq!((mid.corner1, mid.corner2, mid.edge_mid), (1.5, -1.5, 3.0));
         assert_eq!(mid.probes(), [16.5, 18.0, 19.5, 21.0]);
+        assert_eq!(
+            mid.stop_forces, a.stop_forces,
+            "the earlier step's stop forces"
+        );
         assert_eq!(mid.energy_total, 6.0);
         assert_eq!(
             (mid.base_force, mid.base_work, mid.damping_loss),
@@ -198,7 +203,10 @@ mod tests {
             start: 0.0,
             step: 1e-4,
         };
-        let point = |elapsed, previous| CommunicationPoint::Between { elapsed, previous };
+        let point = |elapsed, previous| CommunicationPoint::Between {
+            elapsed,
+            previous: Box::new(previous),
+        };
         assert!(point(1.5e-4, outputs(1.0, 3)).check(&grid, 2, 3).is_ok());
         assert!(CommunicationPoint::OnGrid.check(&grid, 0, 0).is_ok());
         for (p, n, words) in [

@@ -256,7 +256,7 @@ impl Simulation {
         let mut state = initial.clone();
         state.scene = scene.clone();
         state.base = [z0; 2];
-        state.pressure = [scene.load.pressure; 2];
+        state.pressure = [scene.acting_pressure(); 2];
         self.stepper.restore(&state)?;
         check_initial_state(&self.stepper)?;
         self.initial = (state, external_base);
@@ -468,7 +468,7 @@ impl Simulation {
                 (StepEnd::on_grid(n0), None)
             } else {
                 let previous = match &self.point {
-                    CommunicationPoint::Between { previous, .. } => Some(previous.clone()),
+                    CommunicationPoint::Between { previous, .. } => Some((**previous).clone()),
                     CommunicationPoint::OnGrid => None,
                 };
                 (*end, previous)
@@ -505,6 +505,7 @@ impl Simulation {
                 &mut self.contact
             };
             contact.add(report.contact_force, report.impact, dt);
+            contact.add_stops(&report.stop_forces, &report.stop_impacts, dt);
             let step = InternalStep {
                 time: self.grid.time(n),
                 report: &report,
@@ -536,7 +537,10 @@ impl Simulation {
     /// ends in the interval of the point it started from, whose outputs at t_{N−1} it passes on.
     fn move_point(&mut self, end: &StepEnd, previous: Option<Outputs>) {
         self.point = match (end.between, previous) {
-            (Some(elapsed), Some(previous)) => CommunicationPoint::Between { elapsed, previous },
+            (Some(elapsed), Some(previous)) => CommunicationPoint::Between {
+                elapsed,
+                previous: Box::new(previous),
+            },
             _ => CommunicationPoint::OnGrid,
         };
         self.interpolated = OnceCell::new();

@@ -20,8 +20,8 @@
 
 use crate::documentation;
 use plate_impact::fmi::model::Value;
-use plate_impact::fmi::plate::parameter_value;
-use plate_impact::fmi::variables::{Causality, FMI2};
+use plate_impact::fmi::plate::{parameter_value, text_parameter};
+use plate_impact::fmi::variables::{Causality, Kind, FMI2};
 use plate_impact::scene::{Scene, NAMED_SCENES};
 use std::fmt::Write;
 use std::path::Path;
@@ -50,7 +50,18 @@ pub fn ssv(name: &str, scene: &Scene) -> Result<String, String> {
         .iter()
         .filter(|v| v.causality == Causality::Parameter)
     {
-        let value = parameter_value(scene, v).map_err(|e| format!("{name}: {}", e.message))?;
+        let fail = |e: plate_impact::fmi::status::Failure| format!("{name}: {}", e.message);
+        if v.kind == Kind::String {
+            let text = text_parameter(scene, v).map_err(fail)?;
+            let _ = writeln!(
+                out,
+                "    <ssv:Parameter name=\"{}\"><ssv:String value=\"{}\"/></ssv:Parameter>",
+                v.name,
+                xml_escape(text)
+            );
+            continue;
+        }
+        let value = parameter_value(scene, v).map_err(fail)?;
         let element = match value {
             Value::Real(x) => format!("<ssv:Real value=\"{x:?}\"/>"),
             Value::Integer(i) => format!("<ssv:Integer value=\"{i}\"/>"),
@@ -65,6 +76,15 @@ pub fn ssv(name: &str, scene: &Scene) -> Result<String, String> {
     }
     out.push_str("  </ssv:Parameters>\n</ssv:ParameterSet>\n");
     Ok(out)
+}
+
+/// `text` with the five characters XML reserves written as entities, for an attribute value.
+fn xml_escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+        .replace('\'', "&apos;")
 }
 
 /// The experiments: per scene, its horizon, the reference step, parameter set and result.

@@ -21,7 +21,7 @@
 use super::call_state::Function;
 use super::instance::Instance;
 use crate::fmi::c_api::{self, done, guarded};
-use crate::fmi::ffi::{null_argument, owned_c_str, slice, slice_mut, to_cstring};
+use crate::fmi::ffi::{null_argument, owned_c_str, slice, slice_mut, texts, to_cstring};
 use crate::fmi::logger::{LogSink, LOG_ERROR};
 use crate::fmi::plate::PlateModel;
 use crate::fmi::status::{Failure, Status};
@@ -316,12 +316,16 @@ pub unsafe extern "C" fn fmi2GetString(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
     nvr: size_t,
-    _value: *mut fmi2String,
+    value: *mut fmi2String,
 ) -> fmi2Status {
     call(c, Function::GetString, |inst| {
-        // SAFETY: FMI passes an array of `nvr` value references.
-        let vr = unsafe { slice(vr, nvr, "vr")? };
-        done(inst.check_string(Function::GetString, vr))
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice_mut(value, nvr, "value")?) };
+        // The texts stay in the instance until its next String get (FMI: the host copies them).
+        for (out, text) in value.iter_mut().zip(inst.get_string(vr)?) {
+            *out = text.as_ptr();
+        }
+        Ok(Status::Ok)
     })
 }
 
@@ -373,12 +377,15 @@ pub unsafe extern "C" fn fmi2SetString(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
     nvr: size_t,
-    _value: *const fmi2String,
+    value: *const fmi2String,
 ) -> fmi2Status {
     call(c, Function::SetString, |inst| {
-        // SAFETY: FMI passes an array of `nvr` value references.
-        let vr = unsafe { slice(vr, nvr, "vr")? };
-        done(inst.check_string(Function::SetString, vr))
+        // SAFETY: FMI passes arrays of `nvr` elements for both arguments, each text
+        // NUL-terminated.
+        let (vr, value) = unsafe { (slice(vr, nvr, "vr")?, slice(value, nvr, "value")?) };
+        // SAFETY: as above, for each text.
+        let texts = unsafe { texts(value)? };
+        done(inst.set_string(vr, &texts))
     })
 }
 

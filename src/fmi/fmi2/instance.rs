@@ -83,12 +83,6 @@ impl<M: Model> Instance<M> {
         self.begin_initialization(None)
     }
 
-    /// fmi2GetString / fmi2SetString: checks the call; the model has no String variables, so any
-    /// value reference is refused.
-    pub fn check_string(&mut self, function: Function, vrs: &[u32]) -> Result<(), Failure> {
-        self.check_absent_kind(function, &[Kind::String], vrs)
-    }
-
     /// fmi2SetRealInputDerivatives: used by the next doStep only; all or none.
     pub fn set_real_input_derivatives(
         &mut self,

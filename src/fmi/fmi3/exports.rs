@@ -25,7 +25,7 @@
 use super::call_state::Function;
 use super::instance::Instance;
 use crate::fmi::c_api::{self, done, guarded};
-use crate::fmi::ffi::{null_argument, owned_c_str, slice, slice_mut, to_cstring};
+use crate::fmi::ffi::{null_argument, owned_c_str, slice, slice_mut, texts, to_cstring};
 use crate::fmi::logger::{LogSink, LOG_ERROR};
 use crate::fmi::plate::PlateModel;
 use crate::fmi::status::{Failure, Status};
@@ -389,7 +389,6 @@ absent_types! {
     fmi3GetUInt16, GetUInt16, *mut fmi3UInt16;
     fmi3GetUInt32, GetUInt32, *mut fmi3UInt32;
     fmi3GetInt64, GetInt64, *mut fmi3Int64;
-    fmi3GetString, GetString, *mut fmi3String;
     fmi3SetFloat32, SetFloat32, *const fmi3Float32;
     fmi3SetInt8, SetInt8, *const fmi3Int8;
     fmi3SetUInt8, SetUInt8, *const fmi3UInt8;
@@ -397,7 +396,59 @@ absent_types! {
     fmi3SetUInt16, SetUInt16, *const fmi3UInt16;
     fmi3SetUInt32, SetUInt32, *const fmi3UInt32;
     fmi3SetInt64, SetInt64, *const fmi3Int64;
-    fmi3SetString, SetString, *const fmi3String;
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetString(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    values: *mut fmi3String,
+    nValues: size_t,
+) -> fmi3Status {
+    call(instance, Function::GetString, |inst, _| {
+        // SAFETY: FMI passes `nValueReferences` value references and room for `nValues` values.
+        let (vrs, values) = unsafe {
+            (
+                slice(valueReferences, nValueReferences, "valueReferences")?,
+                slice_mut(values, nValues, "values")?,
+            )
+        };
+        if values.len() != vrs.len() {
+            return Err(Failure::refused(format!(
+                "nValues = {nValues}, but the {} String variables asked for hold one value each",
+                vrs.len()
+            )));
+        }
+        // The texts stay in the instance until its next String get (FMI: the host copies them).
+        for (out, text) in values.iter_mut().zip(inst.get_string(vrs)?) {
+            *out = text.as_ptr();
+        }
+        Ok(Status::Ok)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetString(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: size_t,
+    values: *const fmi3String,
+    nValues: size_t,
+) -> fmi3Status {
+    call(instance, Function::SetString, |inst, _| {
+        // SAFETY: FMI passes `nValueReferences` value references and `nValues` NUL-terminated
+        // texts.
+        let (vrs, values) = unsafe {
+            (
+                slice(valueReferences, nValueReferences, "valueReferences")?,
+                slice(values, nValues, "values")?,
+            )
+        };
+        // SAFETY: as above, for each text.
+        let texts = unsafe { texts(values)? };
+        done(inst.set_string(vrs, &texts))
+    })
 }
 
 #[no_mangle]

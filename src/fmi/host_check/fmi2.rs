@@ -1,9 +1,9 @@
 //! The FMI 2.0 host: one instance and its FMU-state slots, through the exported fmi2 functions.
 
-use super::{Host, Observation, Op, StateCalls, ERROR, OK, SLOTS};
+use super::{text_hash, Host, Observation, Op, StateCalls, ERROR, OK, SLOTS};
 use crate::fmi::fmi2::exports::*;
 use crate::fmi::variables::{vr, Description, Kind, FMI2};
-use std::ffi::CString;
+use std::ffi::{c_char, CString};
 
 /// One FMI 2.0 instance and the FMU states the host keeps for it.
 pub struct Fmi2Host {
@@ -158,6 +158,15 @@ impl Host for Fmi2Host {
                     let v: Vec<i32> = items.iter().map(|x| i32::from(x.1)).collect();
                     fmi2SetBoolean(c, r.as_ptr(), r.len(), v.as_ptr())
                 }
+                Op::SetString(items) => {
+                    let r: Vec<u32> = items.iter().map(|x| x.0).collect();
+                    let texts: Vec<CString> = items
+                        .iter()
+                        .map(|x| CString::new(x.1.clone()).unwrap())
+                        .collect();
+                    let v: Vec<*const c_char> = texts.iter().map(|t| t.as_ptr()).collect();
+                    fmi2SetString(c, r.as_ptr(), r.len(), v.as_ptr())
+                }
                 Op::DoStep(k, wrong_time) => {
                     let t = real_status(c).1 + if *wrong_time { 0.25 } else { 0.0 };
                     fmi2DoStep(c, t, k * self.time_step(), 1)
@@ -227,7 +236,19 @@ impl Host for Fmi2Host {
                         let mut b = 0;
                         (fmi2GetBoolean(c, &v.vr, 1, &mut b), b as u64)
                     }
-                    Kind::String | Kind::UInt64 => unreachable!("not in FMI 2.0"),
+                    Kind::String => {
+                        let mut p: *const c_char = std::ptr::null();
+                        let status = fmi2GetString(c, &v.vr, 1, &mut p);
+                        let text = if status == OK {
+                            // SAFETY: the FMU returned a NUL-terminated text it keeps until
+                            // its next String get.
+                            text_hash(std::ffi::CStr::from_ptr(p).to_bytes())
+                        } else {
+                            0
+                        };
+                        (status, text)
+                    }
+                    Kind::UInt64 => unreachable!("not in FMI 2.0"),
                 };
                 values.push((status, if status == OK { vec![bits] } else { vec![] }));
             }

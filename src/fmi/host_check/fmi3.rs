@@ -8,11 +8,11 @@
 //! (outputs and calculated parameters from Step Mode on; the displacement field only when its
 //! structural sizes match the mesh).
 
-use super::{Host, Observation, Op, StateCalls, ERROR, NOT_READ, OK, SLOTS};
+use super::{text_hash, Host, Observation, Op, StateCalls, ERROR, NOT_READ, OK, SLOTS};
 use crate::fmi::fmi3::exports::*;
 use crate::fmi::serialized;
 use crate::fmi::variables::{vr, Causality, Description, Kind, FMI3};
-use std::ffi::CString;
+use std::ffi::{c_char, CString};
 
 /// One FMI 3.0 instance, the FMU states the host keeps for it, and what the host tracks.
 pub struct Fmi3Host {
@@ -159,6 +159,15 @@ impl Fmi3Host {
                     let (r, v): (Vec<u32>, Vec<bool>) = items.iter().copied().unzip();
                     fmi3SetBoolean(c, r.as_ptr(), r.len(), v.as_ptr(), v.len())
                 }
+                Op::SetString(items) => {
+                    let r: Vec<u32> = items.iter().map(|x| x.0).collect();
+                    let texts: Vec<CString> = items
+                        .iter()
+                        .map(|x| CString::new(x.1.clone()).unwrap())
+                        .collect();
+                    let v: Vec<*const c_char> = texts.iter().map(|t| t.as_ptr()).collect();
+                    fmi3SetString(c, r.as_ptr(), r.len(), v.as_ptr(), v.len())
+                }
                 Op::DoStep(k, wrong_time) => self.do_step(*k, *wrong_time),
                 Op::Derivative(order, _) => {
                     let mut x = f64::NAN;
@@ -279,7 +288,18 @@ impl Fmi3Host {
                     let mut b = false;
                     (fmi3GetBoolean(c, &vr, 1, &mut b, 1), u64::from(b))
                 }
-                Kind::String => unreachable!("no String variable"),
+                Kind::String => {
+                    let mut p: *const c_char = std::ptr::null();
+                    let status = fmi3GetString(c, &vr, 1, &mut p, 1);
+                    let text = if status == OK {
+                        // SAFETY: the FMU returned a NUL-terminated text it keeps until its next
+                        // String get.
+                        text_hash(std::ffi::CStr::from_ptr(p).to_bytes())
+                    } else {
+                        0
+                    };
+                    (status, text)
+                }
             }
         }
     }

@@ -16,7 +16,7 @@ mod values;
 pub use snapshot::PlateSnapshot;
 /// The FMI value of parameter `v` in `scene`, as the FMU reports it (the element family as its
 /// code): for the parameter sets shipped in the FMU (`src/bin/package-fmu/contents.rs`).
-pub use values::parameter as parameter_value;
+pub use values::{parameter as parameter_value, text_parameter};
 
 use crate::advice::StatisticsAdvice;
 use crate::fmi::ffi::panic_text;
@@ -258,9 +258,11 @@ fn report_internal_step(log: &mut Logger, step: &InternalStep) {
 
 /// What the last communication step of `sim` reports besides its outputs.
 fn last_step(sim: &Simulation) -> values::LastStep {
+    let rates = sim.displacement_rates();
     values::LastStep {
         contact: *sim.contact(),
         base_mean_force: sim.base_mean_force(),
+        probe_velocities: std::array::from_fn(|k| rates[3 + k]),
     }
 }
 
@@ -342,9 +344,27 @@ impl Model for PlateModel {
                 values::output(sim.outputs(), &last_step(sim), v)
             }
             Causality::Input => Ok(Value::Real(self.input)),
-            Causality::CalculatedParameter => values::calculated(&self.parameters, v),
+            Causality::CalculatedParameter => match values::frequency_index(v) {
+                Some(k) => {
+                    let sim = self.readable_simulation(phase)?;
+                    let frequencies = sim.stepper().natural_frequencies(k + 1)?;
+                    let f = frequencies.get(k).copied().ok_or_else(|| {
+                        Failure::refused(format!(
+                            "{}: the plate as set up has only {} modes (free dofs)",
+                            v.name,
+                            frequencies.len()
+                        ))
+                    })?;
+                    Ok(Value::Real(f))
+                }
+                None => values::calculated(&self.parameters, v),
+            },
             _ => values::parameter(&self.parameters, v),
         }
+    }
+
+    fn get_string(&mut self, v: &Variable, _: Phase) -> Result<String, Failure> {
+        values::text_parameter(&self.parameters, v).map(str::to_string)
     }
 
     fn get_array(&mut self, v: &Variable, phase: Phase) -> Result<Array<'_>, Failure> {
@@ -420,6 +440,23 @@ impl Model for PlateModel {
                 )))
             }
         }
+        Ok(())
+    }
+
+    fn stage_string(
+        &self,
+        draft: &mut Draft,
+        v: &Variable,
+        text: &str,
+        _: Phase,
+    ) -> Result<(), Failure> {
+        if v.causality != Causality::Parameter {
+            return Err(Failure::refused(format!(
+                "{} cannot take a text (internal error)",
+                v.name
+            )));
+        }
+        draft.parameters = values::with_text_parameter(&draft.parameters, v, text)?;
         Ok(())
     }
 
@@ -627,6 +664,8 @@ mod tests {
             impact: true,
             flows: Default::default(),
             resolves: 0,
+            stop_forces: Default::default(),
+            stop_impacts: Default::default(),
         };
         let step = InternalStep {
             time: 0.25,

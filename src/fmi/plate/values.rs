@@ -8,10 +8,12 @@ use crate::budget::ProblemSize;
 use crate::element::ElementKind;
 use crate::fmi::model::Value;
 use crate::fmi::status::Failure;
-use crate::fmi::variables::{vr, Causality, Variable, FMI2};
-use crate::scene::{Bound, LinearChoice, Scene};
+use crate::fmi::variables::{vr, Causality, Kind, Variable, FMI2};
+use crate::obstacles::STOP_OUTPUTS;
+use crate::scene::{Bound, Clamp, LinearChoice, Profile, Scene, PROBES};
 use crate::simulation::contact_summary::ContactSummary;
 use crate::simulation::{bound_tolerance, Outputs};
+use crate::system::FREQUENCIES;
 
 /// The value of a parameter in `scene`, typed as the variable declares it: a direct field read
 /// (`field`), no JSON.
@@ -45,6 +47,7 @@ fn field(s: &Scene, name: &str) -> Option<Value> {
         "obstacle.lower" => real(s.obstacle.lower),
         "obstacle.upper" => real(s.obstacle.upper),
         "load.pressure" => real(s.load.pressure),
+        "load.gravity" => real(s.load.gravity),
         "initial.preload_pressure" => real(s.initial.preload_pressure),
         "base.amplitude" => real(s.base.amplitude),
         "base.frequency" => real(s.base.frequency),
@@ -54,16 +57,69 @@ fn field(s: &Scene, name: &str) -> Option<Value> {
         "damping.frequency_low" => real(s.damping.frequency_low),
         "damping.frequency_high" => real(s.damping.frequency_high),
         "damping.modal_ratio" => real(s.damping.modal_ratio),
+        _ => probe_coordinate(s, name).map(Value::Real),
+    }
+}
+
+/// `probeK.x` or `probeK.y` of `scene`, K = 1 … [`PROBES`](crate::scene::PROBES).
+fn probe_coordinate(scene: &Scene, name: &str) -> Option<f64> {
+    let (probe, axis) = name.strip_prefix("probe")?.split_once('.')?;
+    let k: usize = probe.parse().ok()?;
+    let probe = scene.probes().get(k.checked_sub(1)?).copied()?;
+    match axis {
+        "x" => Some(probe.x),
+        "y" => Some(probe.y),
         _ => None,
     }
 }
 
-/// The value of a calculated parameter: the Rayleigh α (`damping.alpha`) or β (`damping.beta`)
-/// in use ([`Damping::rayleigh`](crate::scene::Damping::rayleigh)), refused while the damping
-/// settings are inconsistent (the error names the parameters at fault); the free dofs of the
-/// plate (`solver.free_dofs`, [`ProblemSize::of`], the count the set-up assembles) and the linear
-/// backend the set-up builds for them (`solver.backend`, [`backend_code`] of
-/// [`backend_choice::resolve`]). All follow from the parameters alone: none needs a set-up.
+/// The text of a String parameter in `scene`: the clamp or an obstacle's profile.
+pub fn text_parameter<'s>(scene: &'s Scene, v: &Variable) -> Result<&'s str, Failure> {
+    match v.name {
+        "plate.clamp" => Ok(&scene.plate.clamp),
+        "obstacle.lower_profile" => Ok(&scene.obstacle.lower_profile),
+        "obstacle.upper_profile" => Ok(&scene.obstacle.upper_profile),
+        _ => Err(Failure::refused(format!(
+            "{} has no text binding (internal error)",
+            v.name
+        ))),
+    }
+}
+
+/// Largest text a String parameter takes (bytes): a table profile of 201 × 201 values written
+/// with 20 characters each fits.
+pub const MAX_TEXT_BYTES: usize = 1 << 20;
+
+/// `scene` with String parameter `v` set to `text`, after checking the text on its own: its
+/// length, and its grammar ([`crate::scene::text`]) with every number finite. What depends on
+/// other parameters (a stop on the plate, a clamp segment within its edge, the obstacle away from
+/// the plate at rest) is [`Scene::validate`]'s, so the order of the sets does not matter.
+pub fn with_text_parameter(scene: &Scene, v: &Variable, text: &str) -> Result<Scene, Failure> {
+    if text.len() > MAX_TEXT_BYTES {
+        return Err(crate::Error::invalid(
+            v.name,
+            format!("<{} bytes>", text.len()),
+            &format!("must be at most {MAX_TEXT_BYTES} bytes long"),
+        )
+        .into());
+    }
+    // On an unbounded plate only the grammar and the numbers are checked.
+    let unbounded = [f64::INFINITY; 2];
+    match v.name {
+        "plate.clamp" => drop(Clamp::parse(text, unbounded)?),
+        _ => drop(Profile::parse(text, v.name, unbounded)?),
+    }
+    Ok(scene.with(v.name, serde_json::Value::from(text))?)
+}
+
+/// The value of a calculated parameter that follows from the parameters alone, without a set-up:
+/// the Rayleigh α (`damping.alpha`) or β (`damping.beta`) in use
+/// ([`Damping::rayleigh`](crate::scene::Damping::rayleigh)), refused while the damping settings
+/// are inconsistent (the error names the parameters at fault); the free dofs of the plate
+/// (`solver.free_dofs`, [`ProblemSize::of`], the count the set-up assembles), the linear backend
+/// the set-up builds for them (`solver.backend`, [`backend_code`] of
+/// [`backend_choice::resolve`]) and the clamped length on the mesh (`plate.clamped_length`). The
+/// natural frequencies need the set-up ([`frequency_index`]).
 pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
     let free_dofs = || ProblemSize::of(scene).map(|size| size.free_dofs);
     match v.vr {
@@ -86,6 +142,7 @@ pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
                 ))
             })
         }
+        vr::PLATE_CLAMPED_LENGTH => Ok(Value::Real(scene.clamped_edges()?.length())),
         vr::SOLVER_BACKEND => backend_code(backend_choice::resolve(scene, free_dofs()?))
             .map(Value::Integer)
             .ok_or_else(|| Failure::refused(format!("{} is unresolved (internal error)", v.name))),
@@ -94,6 +151,14 @@ pub fn calculated(scene: &Scene, v: &Variable) -> Result<Value, Failure> {
             v.name
         ))),
     }
+}
+
+/// The index k (from 0) of calculated parameter `v` among `mode1.frequency` …
+/// `mode6.frequency`, if it is one of them: they are read from the set-up plate.
+pub fn frequency_index(v: &Variable) -> Option<usize> {
+    (vr::MODE1_FREQUENCY..vr::MODE1_FREQUENCY + FREQUENCIES as u32)
+        .contains(&v.vr)
+        .then(|| (v.vr - vr::MODE1_FREQUENCY) as usize)
 }
 
 /// The code `solver.backend` reports for a resolved linear backend (the description documents
@@ -166,10 +231,16 @@ pub fn check_parameters(scene: &Scene) -> Result<(), Failure> {
         .iter()
         .filter(|v| v.causality == Causality::Parameter)
     {
-        let value = parameter(scene, v)?;
-        check_own_range(v, value)?;
-        *Scene::slot(&mut rebuilt, v.name).expect("every parameter is a scene field") =
-            json_value(v, value)?;
+        let json = if v.kind == Kind::String {
+            let text = text_parameter(scene, v)?;
+            with_text_parameter(&Scene::default(), v, text)?;
+            serde_json::Value::from(text)
+        } else {
+            let value = parameter(scene, v)?;
+            check_own_range(v, value)?;
+            json_value(v, value)?
+        };
+        *Scene::slot(&mut rebuilt, v.name).expect("every parameter is a scene field") = json;
     }
     let rebuilt: Scene = serde_json::from_value(rebuilt)
         .map_err(|e| Failure::refused(format!("its parameters do not form a scene ({e})")))?;
@@ -189,6 +260,9 @@ pub struct LastStep {
     /// The mean of the force on the base over it (N,
     /// [`Simulation::base_mean_force`](crate::simulation::Simulation::base_mean_force)).
     pub base_mean_force: f64,
+    /// d/dt of the probes' displacements at its end (m/s,
+    /// [`Simulation::displacement_rates`](crate::simulation::Simulation::displacement_rates)).
+    pub probe_velocities: [f64; PROBES],
 }
 
 /// How to read a Real output from the outputs at the communication time and what the last
@@ -214,39 +288,73 @@ const REAL_OUTPUTS: [(u32, RealOutput); 15] = [
     (vr::BASE_MEAN_FORCE, |_, s| s.base_mean_force),
 ];
 
+/// The Real output with value reference `vr` in `outputs` and `last`, if it is one: the table
+/// [`REAL_OUTPUTS`], then the families of the probes and the stops.
+fn real_output(vr: u32, outputs: &Outputs, last: &LastStep) -> Option<f64> {
+    if let Some((_, read)) = REAL_OUTPUTS.iter().find(|(r, _)| *r == vr) {
+        return Some(read(outputs, last));
+    }
+    let member = |first: u32, count: usize| {
+        (first..first + count as u32)
+            .contains(&vr)
+            .then(|| (vr - first) as usize)
+    };
+    if let Some(k) = member(vr::PROBE1_DISPLACEMENT, PROBES) {
+        return Some(outputs.probes()[k]);
+    }
+    if let Some(k) = member(vr::PROBE1_VELOCITY, PROBES) {
+        return Some(last.probe_velocities[k]);
+    }
+    if let Some(k) = member(vr::STOP1_FORCE, STOP_OUTPUTS) {
+        return Some(outputs.stop_forces[k]);
+    }
+    member(vr::STOP1_IMPULSE, STOP_OUTPUTS).map(|k| last.contact.stops[k].impulse)
+}
+
 /// The value of output `v` (by value reference) in `outputs` and `last`. Refused: an impact
 /// count beyond the Integer range (more than 2³¹ − 1 impacts in one communication step).
 pub fn output(outputs: &Outputs, last: &LastStep, v: &Variable) -> Result<Value, Failure> {
-    let contact = &last.contact;
-    if let Some((_, read)) = REAL_OUTPUTS.iter().find(|(r, _)| *r == v.vr) {
-        return Ok(Value::Real(read(outputs, last)));
+    if let Some(x) = real_output(v.vr, outputs, last) {
+        return Ok(Value::Real(x));
     }
-    Ok(match v.vr {
-        vr::CONTACT_ACTIVE_NODES => Value::Integer(
-            i32::try_from(outputs.active_nodes).expect("at most 401² vertices are in contact"),
-        ),
-        vr::CONTACT_IMPACTS => Value::Integer(i32::try_from(contact.impacts).map_err(|_| {
-            Failure::refused(format!(
-                "{} = {} exceeds the Integer range of FMI 2.0 (2^31 - 1); take shorter communication steps",
-                v.name, contact.impacts
+    let contact = &last.contact;
+    let stop = (vr::STOP1_IMPACTS..vr::STOP1_IMPACTS + STOP_OUTPUTS as u32)
+        .contains(&v.vr)
+        .then(|| (v.vr - vr::STOP1_IMPACTS) as usize);
+    let impacts = match (v.vr, stop) {
+        (vr::CONTACT_ACTIVE_NODES, _) => {
+            return Ok(Value::Integer(
+                i32::try_from(outputs.active_nodes).expect("at most 401² vertices are in contact"),
             ))
-        })?),
+        }
+        (vr::CONTACT_IMPACTS, _) => contact.impacts,
+        (_, Some(k)) => contact.stops[k].impacts,
         _ => {
             return Err(Failure::refused(format!(
                 "{} has no output binding (internal error)",
                 v.name
             )))
         }
-    })
+    };
+    Ok(Value::Integer(i32::try_from(impacts).map_err(|_| {
+        Failure::refused(format!(
+            "{} = {impacts} exceeds the Integer range of FMI 2.0 (2^31 - 1); take shorter communication steps",
+            v.name
+        ))
+    })?))
 }
 
 /// The displacement outputs with a derivative, in the order of
 /// [`Simulation::displacement_rates`](crate::simulation::Simulation::displacement_rates), and the
 /// array output of every vertex.
-pub const DISPLACEMENT_OUTPUTS: [&str; 4] = [
+pub const DISPLACEMENT_OUTPUTS: [&str; 8] = [
     "corner1.displacement",
     "corner2.displacement",
     "edge_mid.displacement",
+    "probe1.displacement",
+    "probe2.displacement",
+    "probe3.displacement",
+    "probe4.displacement",
     "plate.displacement",
 ];
 
@@ -256,20 +364,25 @@ pub fn displacement_point(v: &Variable) -> Option<usize> {
         vr::CORNER1_DISPLACEMENT,
         vr::CORNER2_DISPLACEMENT,
         vr::EDGE_MID_DISPLACEMENT,
+        vr::PROBE1_DISPLACEMENT,
+        vr::PROBE2_DISPLACEMENT,
+        vr::PROBE3_DISPLACEMENT,
+        vr::PROBE4_DISPLACEMENT,
     ]
     .iter()
     .position(|&r| r == v.vr)
 }
 
-/// The first Real output of `outputs` and `last` that is not finite, as (variable name, value).
+/// The first Real output of `outputs` and `last` that is not finite, as (variable name, value):
+/// every Real output of the description, in its order.
 pub fn first_non_finite(outputs: &Outputs, last: &LastStep) -> Option<(&'static str, f64)> {
-    REAL_OUTPUTS.iter().find_map(|&(r, read)| {
-        let x = read(outputs, last);
-        (!x.is_finite()).then(|| {
-            let name = FMI2.variable(r).map_or("?", |v| v.name);
-            (name, x)
+    FMI2.variables
+        .iter()
+        .filter(|v| v.causality == Causality::Output && v.kind == Kind::Real)
+        .find_map(|v| {
+            let x = real_output(v.vr, outputs, last)?;
+            (!x.is_finite()).then_some((v.name, x))
         })
-    })
 }
 
 /// The first corner output that is a contact point (the free corners of the paper's plate) and
@@ -313,6 +426,10 @@ mod tests {
             .filter(|v| v.causality == Causality::Parameter)
         {
             parameters += 1;
+            if let Some(Start::String(text)) = v.start.clone() {
+                assert_eq!(text_parameter(&scene, v).unwrap(), text, "{}", v.name);
+                continue;
+            }
             let expected = match v.start.clone() {
                 Some(Start::Real(x)) => Value::Real(x),
                 Some(Start::Integer(i)) => Value::Integer(i32::try_from(i).unwrap()),
@@ -321,7 +438,7 @@ mod tests {
             };
             assert_eq!(parameter(&scene, v).unwrap(), expected, "{}", v.name);
         }
-        assert_eq!(parameters, 25, "docs/fmu.md lists 25 parameters");
+        assert_eq!(parameters, 37, "docs/fmu.md lists 37 parameters");
     }
 
     /// `solver.free_dofs` and `solver.backend` are what a set-up builds: on meshes of both
@@ -396,7 +513,9 @@ mod tests {
             first_non_finite(&outputs, &last),
             Some(("energy.elastic", f64::INFINITY))
         );
-        assert_eq!(real_outputs, 15);
+        // 15 of the paper's model, 4 probes' displacements and velocities, 8 stops' forces and
+        // impulses.
+        assert_eq!(real_outputs, 15 + 2 * 4 + 2 * 8);
         for (name, kind) in [
             ("corner1.displacement", Kind::Real),
             ("energy.total", Kind::Real),
@@ -471,15 +590,23 @@ mod tests {
             let json = serde_json::Value::from(x * 1.5 + 0.25);
             changed = changed.with(v.name, json).unwrap();
         }
+        changed.plate.clamp = "all".to_string();
+        changed.obstacle.lower_profile = "point(x=0.1, y=0.1)".to_string();
+        changed.obstacle.upper_profile = "plane(slope_x=0.01)".to_string();
         let mut read = 0;
         for scene in [Scene::default(), changed] {
             for v in parameters() {
-                let direct = parameter(&scene, v).unwrap();
-                assert_eq!(direct, typed(v, &scene.get(v.name).unwrap()), "{}", v.name);
+                let json = scene.get(v.name).unwrap();
+                if v.kind == Kind::String {
+                    let text = text_parameter(&scene, v).unwrap();
+                    assert_eq!(Some(text), json.as_str(), "{}", v.name);
+                } else {
+                    assert_eq!(parameter(&scene, v).unwrap(), typed(v, &json), "{}", v.name);
+                }
                 read += 1;
             }
         }
-        assert_eq!(read, 2 * 25, "the 25 FMU parameters");
+        assert_eq!(read, 2 * 37, "the 37 FMU parameters");
     }
 
     /// The FMI value of parameter `v` from its JSON value in a scene: the reference the direct
