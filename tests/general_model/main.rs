@@ -1,0 +1,9 @@
+//! The generalised model (docs/model.md: any clamped part Γc of the edge, obstacle profiles and
+//! local stops whose contact rows go through the element's basis) against independent
+//! references, on both elements.
+
+// Index loops read closer to the formulas they check.
+#![allow(clippy::needless_range_loop)]
+
+mod ritz;
+mod spectra;
