@@ -3,83 +3,12 @@
 //! plate, an independent Ritz solution for every clamp (`ritz.rs`), and, when it is installed,
 //! GetFEM on the same meshes.
 
-use super::ritz::{frequency_parameters, Ends};
+use super::plates::{
+    omega_squared, parameters, ritz_reference, scene, BELOW_RITZ, CLAMPS, RITZ_COUNT,
+};
+use super::ritz::frequency_parameters;
 use plate_impact::element::ElementKind;
-use plate_impact::scene::Scene;
-use plate_impact::system::PlateSystem;
 use std::process::Command;
-
-/// One clamp of the three kinds: its `plate.clamp` text, the clamped ends of x and of y for the
-/// Ritz reference, and the clamped sides by name for GetFEM.
-struct Clamp {
-    text: &'static str,
-    x_ends: Ends,
-    y_ends: Ends,
-    sides: &'static [&'static str],
-}
-
-const CLAMPS: [Clamp; 3] = [
-    Clamp {
-        text: "xmin, ymin",
-        x_ends: (true, false),
-        y_ends: (true, false),
-        sides: &["xmin", "ymin"],
-    },
-    Clamp {
-        text: "xmin, xmax",
-        x_ends: (true, true),
-        y_ends: (false, false),
-        sides: &["xmin", "xmax"],
-    },
-    Clamp {
-        text: "all",
-        x_ends: (true, true),
-        y_ends: (true, true),
-        sides: &["xmin", "xmax", "ymin", "ymax"],
-    },
-];
-
-/// Polynomials per direction of the Ritz reference. Its λ₁ … λ₆ move from 18 to 22 polynomials
-/// by at most 4e-9 relative for the fully clamped plate and by at most 2.4e-5 (mode 6 of
-/// "xmin, xmax") where a clamped edge meets a free one, whose corner singularity slows any
-/// polynomial basis; halving successive changes bounds what remains below 3e-5.
-const RITZ_COUNT: usize = 22;
-
-/// How far below the Ritz reference a conforming λ_h may lie: the reference's own remaining
-/// error (3e-5, [`RITZ_COUNT`]), since both are upper bounds of the exact λ.
-const BELOW_RITZ: f64 = 3e-5;
-
-/// The paper's plate, 0.4 m × 0.2 m (a/b = 2 with a = Lx the longer side), on an `element`
-/// mesh of nx × ny cells, clamped on `clamp`.
-fn scene(clamp: &str, element: ElementKind, nx: usize, ny: usize) -> Scene {
-    let mut s = Scene::default();
-    s.set("plate.clamp", clamp).unwrap();
-    s.mesh.element = element;
-    s.mesh.nx = nx;
-    s.mesh.ny = ny;
-    s
-}
-
-/// ω_k² of the six lowest modes of `scene` (rad²/s²).
-fn omega_squared(scene: &Scene) -> Vec<f64> {
-    let plate = PlateSystem::new(scene).unwrap();
-    plate.modes().unwrap().omega_squared[..6].to_vec()
-}
-
-/// The six lowest λ_k = ω_k Lx²√(ρe/D) of the plate clamped on `clamp`.
-fn parameters(clamp: &str, element: ElementKind, nx: usize, ny: usize) -> Vec<f64> {
-    let s = scene(clamp, element, nx, ny);
-    let scale = s.plate.length.powi(2) * (s.areal_mass() / s.bending_stiffness()).sqrt();
-    omega_squared(&s)
-        .iter()
-        .map(|w2| w2.sqrt() * scale)
-        .collect()
-}
-
-/// The Ritz reference of `clamp` for the 0.4 × 0.2 plate (ν = 0.3).
-fn reference(clamp: &Clamp) -> Vec<f64> {
-    frequency_parameters([0.4, 0.2], clamp.x_ends, clamp.y_ends, RITZ_COUNT, 0.3)
-}
 
 /// The reference itself against the literature. Leissa (*Vibration of Plates*, NASA SP-160,
 /// 1969, §4.3.1, the plate clamped on all sides) gives λ₁ = ωa²√(ρe/D) ≈ 98.3 for a/b = 2 (a the
@@ -138,7 +67,7 @@ fn the_ritz_reference_reproduces_leissas_clamped_plates() {
 #[test]
 fn spectra_of_three_clamps_match_the_ritz_reference_and_leissa() {
     for clamp in &CLAMPS {
-        let reference = reference(clamp);
+        let reference = ritz_reference(clamp);
         for (element, nx, ny, tolerance) in [
             (ElementKind::Argyris, 10, 7, 5e-4),
             (ElementKind::Fvs, 14, 10, 2e-2),
@@ -171,56 +100,6 @@ fn spectra_of_three_clamps_match_the_ritz_reference_and_leissa() {
                     0.983
                 };
                 assert!((lambda[0] - 98.3).abs() <= leissa, "λ₁ {}", lambda[0]);
-            }
-        }
-    }
-}
-
-/// Convergence of λ₁ … λ₃ on meshes halving h (4 × 2, 8 × 4, 16 × 8), against the Ritz
-/// reference. Measured orders over the last halving: FVS 1.60–1.97 (eigenvalues like h², the
-/// element being complete to P2 only; 2.0 on 32 × 16), so [1.5, 2.5]; Argyris 5.7–6.3 for the
-/// plate clamped all round, whose corners are all clamped (smooth eigenfunctions would give
-/// h⁸ for P5; the clamped corners' singularity caps it), so ≥ 4.5; and 1.4–2.0 where a clamped
-/// edge meets a free one, the singularity that makes the cantilever's λ₁ converge like h² too
-/// (tests/modes.rs), so [1.2, 2.5]. Coarser, the FVS errors are not yet asymptotic (on the
-/// fully clamped plate the 4 × 2 → 8 × 4 orders are 0.7, 0.1 and −0.2), so only the last halving
-/// is held to an order; every error must have fallen in it.
-#[test]
-fn frequencies_converge_under_refinement_for_every_clamp() {
-    for clamp in &CLAMPS {
-        let reference = reference(clamp);
-        for element in [ElementKind::Argyris, ElementKind::Fvs] {
-            let errors: Vec<Vec<f64>> = [(4, 2), (8, 4), (16, 8)]
-                .iter()
-                .map(|&(nx, ny)| {
-                    let lambda = parameters(clamp.text, element, nx, ny);
-                    (0..3)
-                        .map(|k| (lambda[k] - reference[k]) / reference[k])
-                        .collect()
-                })
-                .collect();
-            let (low, high) = match (element, clamp.text) {
-                (ElementKind::Fvs, _) => (1.5, 2.5),
-                (ElementKind::Argyris, "all") => (4.5, f64::INFINITY),
-                (ElementKind::Argyris, _) => (1.2, 2.5),
-            };
-            for k in 0..3 {
-                let order = (errors[1][k] / errors[2][k]).log2();
-                println!(
-                    "{} {element:?} mode {}: errors {:.2e} {:.2e} {:.2e}, last order {order:.2}",
-                    clamp.text,
-                    k + 1,
-                    errors[0][k],
-                    errors[1][k],
-                    errors[2][k]
-                );
-                assert!(errors[2][k] < errors[1][k], "{} mode {}", clamp.text, k + 1);
-                assert!(
-                    (low..=high).contains(&order),
-                    "{} {element:?} mode {}: order {order}",
-                    clamp.text,
-                    k + 1
-                );
             }
         }
     }
