@@ -62,15 +62,19 @@ pub fn solve_few_rows(
 ) -> (Vec<f64>, Vec<f64>) {
     let (n, m) = (x_star.len(), rows.len());
     assert!(m <= 16, "enumeration is for a few rows");
+    let y_star: Vec<f64> = rows
+        .iter()
+        .map(|r| r.iter().zip(x_star).map(|(a, b)| a * b).sum())
+        .collect();
+    if y_star.iter().zip(bounds).all(|(y, g)| y >= g) {
+        // The empty set: x* itself, with no need of W.
+        return (x_star.to_vec(), vec![0.0; m]);
+    }
     let rt = Mat::from_fn(n, m, |i, j| rows[j][i]);
     let solved = factor.solve(&rt);
     let w = Mat::from_fn(m, m, |i, j| {
         (0..n).map(|k| rows[i][k] * solved[(k, j)]).sum::<f64>()
     });
-    let y_star: Vec<f64> = rows
-        .iter()
-        .map(|r| r.iter().zip(x_star).map(|(a, b)| a * b).sum())
-        .collect();
     let gap_scale = bounds
         .iter()
         .chain(&y_star)

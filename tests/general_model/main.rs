@@ -11,3 +11,4 @@ mod plates;
 mod ritz;
 mod spectra;
 mod static_stud;
+mod trajectory;

@@ -100,3 +100,14 @@ pub fn preloaded(profile: &str, element: ElementKind, nx: usize, ny: usize) -> S
     s.validate().unwrap();
     s
 }
+
+/// The default scene on the paper's 140-element mesh of `element` (Argyris 10 × 7, FVS 14 × 10).
+pub fn paper_mesh(element: ElementKind) -> Scene {
+    let mut s = Scene::default();
+    s.mesh.element = element;
+    if element == ElementKind::Fvs {
+        s.mesh.nx = 14;
+        s.mesh.ny = 10;
+    }
+    s
+}
