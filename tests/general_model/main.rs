@@ -6,6 +6,7 @@
 // Index loops read closer to the formulas they check.
 #![allow(clippy::needless_range_loop)]
 
+mod energy;
 mod independent;
 mod plates;
 mod ritz;
