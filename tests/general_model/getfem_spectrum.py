@@ -1,7 +1,8 @@
 """The clamped plate's lowest eigenvalues computed by GetFEM on PlateImpact's structured meshes.
 
 Usage: getfem_spectrum.py ELEMENT NX NY LX LY D RHO_E NU MODES SIDE...
-ELEMENT is argyris or fvs; each SIDE is xmin, xmax, ymin or ymax (a whole clamped edge). Prints
+ELEMENT is argyris or fvs; each SIDE is xmin, xmax, ymin or ymax (a whole clamped edge), or
+NAME:FROM:TO for the segment FROM <= t <= TO of that edge, t the coordinate along it. Prints
 one line of the MODES lowest omega^2 (rad^2/s^2), space separated.
 
 Independent of PlateImpact but for the mesh layout (vertex (i, j) at (i Lx/NX, j Ly/NY); each
@@ -54,7 +55,16 @@ def main():
         "ymin": lambda p: abs(p[1]) < 1e-9 * ly,
         "ymax": lambda p: abs(p[1] - ly) < 1e-9 * ly,
     }
-    chosen = [k for k, p in enumerate(centres) if any(on_side[s](p) for s in sides)]
+    def clamped(p, spec):
+        name, *ends = spec.split(":")
+        along = p[1] if name in ("xmin", "xmax") else p[0]
+        # A face is clamped when its centre lies in the segment, ends included (to round-off),
+        # as plate.clamp decides on the mesh.
+        tolerance = 1e-9 * max(lx, ly)
+        inside = not ends or float(ends[0]) - tolerance <= along <= float(ends[1]) + tolerance
+        return on_side[name](p) and inside
+
+    chosen = [k for k, p in enumerate(centres) if any(clamped(p, s) for s in sides)]
     mesh.set_region(1, faces[:, chosen])
     md = gf.Model("real")
     md.add_fem_variable("u", mf)

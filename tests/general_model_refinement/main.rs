@@ -1,11 +1,14 @@
 //! Refinement studies of the generalised model, on both elements: the spectra of three clamps
 //! and the static deflection of a plate preloaded onto a stud, on meshes halving h (docs/
-//! general-model-verification.md). Slower than tests/general_model/ (the finest meshes have 5 000
-//! to 6 500 dofs), hence a binary of their own.
+//! general-model-verification.md); and the spectra against GetFEM when it is installed. Slower
+//! than tests/general_model/ (the finest meshes have 5 000 to 6 500 dofs, GetFEM runs eight
+//! times), hence a binary of their own.
 
 // Index loops read closer to the formulas they check.
 #![allow(clippy::needless_range_loop)]
 
+#[path = "../general_model/getfem.rs"]
+mod getfem;
 #[path = "../general_model/plates.rs"]
 mod plates;
 #[path = "../general_model/ritz.rs"]
