@@ -86,7 +86,7 @@ pub fn ritz_reference(clamp: &Clamp) -> Vec<f64> {
 
 /// The paper's plate (clamped at x = 0) on an `element` mesh of nx × ny cells, pressed down by
 /// the preload p₀ = −30 kPa onto the lower obstacle `profile` at the level −1 mm, without an
-/// upper obstacle: free, its deflection under the stud would reach about −3.5 mm.
+/// upper obstacle: free, its deflection under the stud would reach about −4.0 mm.
 pub fn preloaded(profile: &str, element: ElementKind, nx: usize, ny: usize) -> Scene {
     let mut s = Scene::default();
     s.mesh.element = element;
