@@ -34,7 +34,7 @@ fn released(element: ElementKind, lower: Obstacle, upper: Option<Obstacle>) -> S
 /// onto (a) local stops: a disc under a free corner and a point stud under the other, 5 mm below,
 /// and a point stop over the free edge's middle, 1 cm above, into which the preload already
 /// presses it; (b) an inclined support, the plane of slopes −0.02 in x and 0.01 in y through
-/// −1 cm at the plate's centre (from −5 mm under the clamped corners' side to −1.4 cm under the
+/// −1 cm at the plate's centre (from −5 mm under the clamped corner (0, Ly) to −1.5 cm under the
 /// free corner (Lx, 0)). Both elements, each with at least 20 contact steps. The energy drifts by
 /// round-off only: the paper's flat scene keeps it to 2e-15 over 1 s at this Δt
 /// (docs/scheme.md §8), the restitution tests hold it to 1e-10, and so do we (measured 7e-14 to
