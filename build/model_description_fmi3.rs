@@ -132,7 +132,7 @@ const FMI3_RULES: Rules = Rules {
     },
 };
 
-/// The name of the parameter whose start is the FMU's default internal step.
+/// The name of the parameter that sets the FMU's internal step.
 const TIME_STEP: &str = "solver.time_step";
 
 /// A flag of `<CoSimulation>`: absent is false.
@@ -172,7 +172,7 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
     check_independent(&variables)?;
     check_dimensions(&variables)?;
     check_model_structure(&variables, &root.model_structure)?;
-    check_fixed_internal_step(&cs, &variables)?;
+    check_no_fixed_internal_step(&cs)?;
     Ok(Model {
         fmi_version: root.fmi_version,
         model_name: root.model_name,
@@ -251,27 +251,16 @@ fn check_fmi3_variable(
     Ok(v)
 }
 
-/// A declared fixedInternalStepSize is the start of the time-step parameter.
-fn check_fixed_internal_step(cs: &CoSimulation, variables: &[Variable]) -> Result<(), String> {
-    if let Some(step) = &cs.fixed_internal_step_size {
-        let declared: f64 = step
-            .trim()
-            .parse()
-            .map_err(|_| format!("fixedInternalStepSize {step:?} is not a number"))?;
-        let default_step = variables
-            .iter()
-            .find(|v| v.name == TIME_STEP)
-            .and_then(|v| match v.start {
-                Some(Start::Real(x)) => Some(x),
-                _ => None,
-            });
-        if default_step != Some(declared) {
-            return Err(format!(
-            "fixedInternalStepSize = {declared} must be the start of {TIME_STEP} ({default_step:?}), the internal step the FMU takes unless it is set"
-        ));
-        }
+/// No fixedInternalStepSize: the internal step is the parameter `solver.time_step`, so a constant
+/// in `<CoSimulation>` would be false whenever a host sets it (and importers such as fmpy take the
+/// attribute as the basis of their output interval).
+fn check_no_fixed_internal_step(cs: &CoSimulation) -> Result<(), String> {
+    match &cs.fixed_internal_step_size {
+        Some(step) => Err(format!(
+            "CoSimulation fixedInternalStepSize = {step:?} must not be declared: the internal step is the parameter {TIME_STEP}, which a host may set"
+        )),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// The capability flags this FMU's FMI 3.0 layer relies on: no Event Mode (impacts are resolved

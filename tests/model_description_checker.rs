@@ -297,8 +297,8 @@ fn fmi3_capabilities_this_fmu_relies_on() {
     );
     rejected3(
         &broken3(
-            r#"fixedInternalStepSize="1e-4""#,
-            r#"fixedInternalStepSize="1e-3""#,
+            r#"canHandleVariableCommunicationStepSize="true""#,
+            r#"canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="1e-4""#,
         ),
         &["fixedInternalStepSize", "solver.time_step"],
     );
