@@ -5,6 +5,7 @@
 //! Co-Simulation capability flags this FMU relies on), and [`check_same_variables`], which keeps
 //! the FMI 2.0 and 3.0 descriptions from drifting apart.
 
+use crate::dependencies::{self, Dependencies, List};
 use crate::model_description::{
     category_names, check_variable, co_simulation, default_experiment, expected_structure,
     unit_names, CoSimulation, DefaultExperiment, Dimension, Initials, Kind, LogCategories, Model,
@@ -98,6 +99,10 @@ struct ModelStructure {
 struct Reference {
     #[serde(rename = "@valueReference")]
     value_reference: u32,
+    #[serde(rename = "@dependencies")]
+    dependencies: Option<String>,
+    #[serde(rename = "@dependenciesKind")]
+    dependencies_kind: Option<String>,
 }
 
 /// The `initial` values FMI 3.0 allows for a causality and variability, and the default (FMI 3.0,
@@ -172,6 +177,7 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
     check_independent(&variables)?;
     check_dimensions(&variables)?;
     check_model_structure(&variables, &root.model_structure)?;
+    let declared = declared_dependencies(&variables, &root.model_structure)?;
     check_no_fixed_internal_step(&cs)?;
     Ok(Model {
         fmi_version: root.fmi_version,
@@ -184,7 +190,40 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
         default_step_size: step_size,
         co_simulation: cs,
         variables,
+        dependencies: declared,
     })
+}
+
+/// The dependencies of every `<Output>` and `<InitialUnknown>`, checked by
+/// [`dependencies::check`] (entries are value references).
+fn declared_dependencies(
+    variables: &[Variable],
+    structure: &ModelStructure,
+) -> Result<Vec<Dependencies>, String> {
+    let resolve = |reference: u64| -> Option<&Variable> {
+        variables
+            .iter()
+            .find(|v| u64::from(v.value_reference) == reference)
+    };
+    let mut declared = Vec::new();
+    for (kind, unknowns) in [
+        (List::Outputs, &structure.outputs),
+        (List::InitialUnknowns, &structure.initial_unknowns),
+    ] {
+        for u in unknowns {
+            let unknown = resolve(u64::from(u.value_reference))
+                .expect("check_model_structure found every unknown");
+            declared.push(dependencies::check(
+                "3.0",
+                kind,
+                unknown,
+                u.dependencies.as_deref(),
+                u.dependencies_kind.as_deref(),
+                &resolve,
+            )?);
+        }
+    }
+    Ok(declared)
 }
 
 /// One `<Float64>`, `<Int32>`, `<UInt64>` or `<Boolean>` element: the checks shared with FMI 2.0
@@ -397,7 +436,9 @@ pub fn check_same_variables(fmi2: &Model, fmi3: &Model) -> Result<(), String> {
             ));
         }
     }
-    Ok(())
+    dependencies::check_same(&fmi2.dependencies, &fmi3.dependencies, &|name| {
+        fmi2.by_name(name).is_some()
+    })
 }
 
 /// The same model name, model identifier, log categories and default experiment.
