@@ -9,6 +9,8 @@
 //! `$OUT_DIR` (packaged by `src/bin/package-fmu.rs` from [`SHIPPED_FMI2_XML`] and
 //! [`SHIPPED_FMI3_XML`] of `src/fmi/variables.rs`).
 
+#[path = "build/dependencies.rs"]
+mod dependencies;
 #[path = "build/model_description.rs"]
 mod model_description;
 #[path = "build/model_description_fmi3.rs"]
@@ -49,6 +51,7 @@ fn main() {
     if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux") {
         println!("cargo:rustc-cdylib-link-arg=-Wl,-soname,PlateImpact.so");
     }
+    println!("cargo:rerun-if-changed=build/dependencies.rs");
     println!("cargo:rerun-if-changed=build/model_description.rs");
     println!("cargo:rerun-if-changed=build/model_description_fmi3.rs");
     println!("cargo:rerun-if-changed=build/token.rs");

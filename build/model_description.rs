@@ -9,6 +9,7 @@
 //! agree ([`check_variable`]); `model_description_fmi3.rs` adds what only FMI 3.0 has and the
 //! comparison of the two descriptions.
 
+use crate::dependencies::{self, Dependencies, List};
 use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -194,6 +195,10 @@ struct UnknownList {
 struct Unknown {
     #[serde(rename = "@index")]
     index: usize,
+    #[serde(rename = "@dependencies")]
+    dependencies: Option<String>,
+    #[serde(rename = "@dependenciesKind")]
+    dependencies_kind: Option<String>,
 }
 
 /// Variable kinds, as the Rust table names them: `Real` is fmi2Real and fmi3Float64, `Integer`
@@ -273,6 +278,8 @@ pub struct Model {
     pub default_step_size: f64,
     pub co_simulation: CoSimulation,
     pub variables: Vec<Variable>,
+    /// What each output and initial unknown depends on, checked by [`dependencies::check`].
+    pub dependencies: Vec<Dependencies>,
 }
 
 impl Model {
@@ -688,6 +695,26 @@ pub fn check(xml: &str) -> Result<Model, String> {
             "ModelStructure/InitialUnknowns lists indices {initial_declared:?}, but the calculated outputs are at {initial_expected:?}"
         ));
     }
+    // The indices were checked above; a dependency is a 1-based index too.
+    let resolve = |index: u64| -> Option<&Variable> {
+        variables.get(usize::try_from(index).ok()?.checked_sub(1)?)
+    };
+    let mut declared = Vec::new();
+    for (kind, unknowns) in [
+        (List::Outputs, &structure.outputs),
+        (List::InitialUnknowns, &structure.initial_unknowns),
+    ] {
+        for u in unknowns.iter().flat_map(|l| &l.unknowns) {
+            declared.push(dependencies::check(
+                "2.0",
+                kind,
+                &variables[u.index - 1],
+                u.dependencies.as_deref(),
+                u.dependencies_kind.as_deref(),
+                &resolve,
+            )?);
+        }
+    }
 
     Ok(Model {
         fmi_version: root.fmi_version,
@@ -700,6 +727,7 @@ pub fn check(xml: &str) -> Result<Model, String> {
         default_step_size: step_size,
         co_simulation: cs,
         variables,
+        dependencies: declared,
     })
 }
 

@@ -5,6 +5,7 @@
 //! Co-Simulation capability flags this FMU relies on), and [`check_same_variables`], which keeps
 //! the FMI 2.0 and 3.0 descriptions from drifting apart.
 
+use crate::dependencies::{self, Dependencies, List};
 use crate::model_description::{
     category_names, check_variable, co_simulation, default_experiment, expected_structure,
     unit_names, CoSimulation, DefaultExperiment, Dimension, Initials, Kind, LogCategories, Model,
@@ -108,6 +109,10 @@ struct ModelStructure {
 struct Reference {
     #[serde(rename = "@valueReference")]
     value_reference: u32,
+    #[serde(rename = "@dependencies")]
+    dependencies: Option<String>,
+    #[serde(rename = "@dependenciesKind")]
+    dependencies_kind: Option<String>,
 }
 
 /// The `initial` values FMI 3.0 allows for a causality and variability, and the default (FMI 3.0,
@@ -142,7 +147,7 @@ const FMI3_RULES: Rules = Rules {
     },
 };
 
-/// The name of the parameter whose start is the FMU's default internal step.
+/// The name of the parameter that sets the FMU's internal step.
 const TIME_STEP: &str = "solver.time_step";
 
 /// A flag of `<CoSimulation>`: absent is false.
@@ -182,7 +187,8 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
     check_independent(&variables)?;
     check_dimensions(&variables)?;
     check_model_structure(&variables, &root.model_structure)?;
-    check_fixed_internal_step(&cs, &variables)?;
+    let declared = declared_dependencies(&variables, &root.model_structure)?;
+    check_no_fixed_internal_step(&cs)?;
     Ok(Model {
         fmi_version: root.fmi_version,
         model_name: root.model_name,
@@ -194,7 +200,40 @@ pub fn check_fmi3(xml: &str) -> Result<Model, String> {
         default_step_size: step_size,
         co_simulation: cs,
         variables,
+        dependencies: declared,
     })
+}
+
+/// The dependencies of every `<Output>` and `<InitialUnknown>`, checked by
+/// [`dependencies::check`] (entries are value references).
+fn declared_dependencies(
+    variables: &[Variable],
+    structure: &ModelStructure,
+) -> Result<Vec<Dependencies>, String> {
+    let resolve = |reference: u64| -> Option<&Variable> {
+        variables
+            .iter()
+            .find(|v| u64::from(v.value_reference) == reference)
+    };
+    let mut declared = Vec::new();
+    for (kind, unknowns) in [
+        (List::Outputs, &structure.outputs),
+        (List::InitialUnknowns, &structure.initial_unknowns),
+    ] {
+        for u in unknowns {
+            let unknown = resolve(u64::from(u.value_reference))
+                .expect("check_model_structure found every unknown");
+            declared.push(dependencies::check(
+                "3.0",
+                kind,
+                unknown,
+                u.dependencies.as_deref(),
+                u.dependencies_kind.as_deref(),
+                &resolve,
+            )?);
+        }
+    }
+    Ok(declared)
 }
 
 /// One `<Float64>`, `<Int32>`, `<UInt64>`, `<Boolean>` or `<String>` element: the checks shared
@@ -274,27 +313,16 @@ fn check_fmi3_variable(
     Ok(v)
 }
 
-/// A declared fixedInternalStepSize is the start of the time-step parameter.
-fn check_fixed_internal_step(cs: &CoSimulation, variables: &[Variable]) -> Result<(), String> {
-    if let Some(step) = &cs.fixed_internal_step_size {
-        let declared: f64 = step
-            .trim()
-            .parse()
-            .map_err(|_| format!("fixedInternalStepSize {step:?} is not a number"))?;
-        let default_step = variables
-            .iter()
-            .find(|v| v.name == TIME_STEP)
-            .and_then(|v| match v.start {
-                Some(Start::Real(x)) => Some(x),
-                _ => None,
-            });
-        if default_step != Some(declared) {
-            return Err(format!(
-            "fixedInternalStepSize = {declared} must be the start of {TIME_STEP} ({default_step:?}), the internal step the FMU takes unless it is set"
-        ));
-        }
+/// No fixedInternalStepSize: the internal step is the parameter `solver.time_step`, so a constant
+/// in `<CoSimulation>` would be false whenever a host sets it (and importers such as fmpy take the
+/// attribute as the basis of their output interval).
+fn check_no_fixed_internal_step(cs: &CoSimulation) -> Result<(), String> {
+    match &cs.fixed_internal_step_size {
+        Some(step) => Err(format!(
+            "CoSimulation fixedInternalStepSize = {step:?} must not be declared: the internal step is the parameter {TIME_STEP}, which a host may set"
+        )),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// The capability flags this FMU's FMI 3.0 layer relies on: no Event Mode (impacts are resolved
@@ -431,7 +459,9 @@ pub fn check_same_variables(fmi2: &Model, fmi3: &Model) -> Result<(), String> {
             ));
         }
     }
-    Ok(())
+    dependencies::check_same(&fmi2.dependencies, &fmi3.dependencies, &|name| {
+        fmi2.by_name(name).is_some()
+    })
 }
 
 /// The same model name, model identifier, log categories and default experiment.

@@ -2,6 +2,8 @@
 //! 2.0 and 3.0 descriptions and reject broken ones with a message naming the variable or element;
 //! the comparison of the two rejects every way they could drift apart.
 
+#[path = "../build/dependencies.rs"]
+mod dependencies;
 #[path = "../build/model_description.rs"]
 mod model_description;
 #[path = "../build/model_description_fmi3.rs"]
@@ -204,9 +206,104 @@ fn enumeration_start_not_an_item() {
 #[test]
 fn model_structure_must_list_the_outputs() {
     rejected(
-        &broken("<Outputs>\n      <Unknown index=\"23\"/>\n", "<Outputs>\n"),
+        &broken(
+            "<Outputs>\n      <Unknown index=\"23\" dependencies=\"\"/>\n",
+            "<Outputs>\n",
+        ),
         &["ModelStructure/Outputs"],
     );
+}
+
+#[test]
+fn every_unknown_declares_dependencies_on_knowns_of_its_list() {
+    // Without the attribute an output would depend on every input: refused, naming it.
+    rejected(
+        &broken(
+            r#"<Unknown index="23" dependencies=""/>"#,
+            r#"<Unknown index="23"/>"#,
+        ),
+        &[
+            "Outputs",
+            "corner1.displacement",
+            "declares no dependencies",
+        ],
+    );
+    rejected3(
+        &broken3(
+            r#"<InitialUnknown valueReference="22" dependencies="15 17 18 19"/>"#,
+            r#"<InitialUnknown valueReference="22"/>"#,
+        ),
+        &[
+            "InitialUnknowns",
+            "damping.alpha",
+            "declares no dependencies",
+        ],
+    );
+    // FMI 2.0 outputs at communication points know the inputs, not the parameters (22 is the
+    // input base.displacement, 16 the parameter load.pressure).
+    check(&broken(
+        r#"<Unknown index="24" dependencies=""/>"#,
+        r#"<Unknown index="24" dependencies="22"/>"#,
+    ))
+    .expect("an output may depend on an input");
+    rejected(
+        &broken(
+            r#"<Unknown index="24" dependencies=""/>"#,
+            r#"<Unknown index="24" dependencies="16"/>"#,
+        ),
+        &[
+            "corner2.displacement",
+            "load.pressure",
+            "not a known of Outputs",
+        ],
+    );
+    // An output is no known of initialization; order and repetition are checked.
+    rejected(
+        &broken(
+            r#"<Unknown index="47" dependencies="7 8 9 42"/>"#,
+            r#"<Unknown index="47" dependencies="7 8 9 23"/>"#,
+        ),
+        &["solver.backend", "corner1.displacement", "not a known"],
+    );
+    rejected(
+        &broken(
+            r#"<Unknown index="47" dependencies="7 8 9 42"/>"#,
+            r#"<Unknown index="47" dependencies="7 9 8 42"/>"#,
+        ),
+        &["solver.backend", "out of place"],
+    );
+    rejected(
+        &broken(
+            r#"<Unknown index="46" dependencies="7 8 9"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 900"/>"#,
+        ),
+        &["solver.free_dofs", "900", "names no variable"],
+    );
+    rejected(
+        &broken(
+            r#"<Unknown index="46" dependencies="7 8 9"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 9" dependenciesKind="dependent fixed fixed"/>"#,
+        ),
+        &[
+            "solver.free_dofs",
+            "dependenciesKind",
+            "\"fixed\"",
+            "not allowed",
+        ],
+    );
+    rejected(
+        &broken(
+            r#"<Unknown index="46" dependencies="7 8 9"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 9" dependenciesKind="dependent fixed"/>"#,
+        ),
+        &["solver.free_dofs", "dependenciesKind", "2 entries for 3"],
+    );
+    // FMI 3.0 outputs also know the parameters.
+    check_fmi3(&broken3(
+        r#"<Output valueReference="31" dependencies=""/>"#,
+        r#"<Output valueReference="31" dependencies="11"/>"#,
+    ))
+    .expect("an FMI 3.0 output may depend on a parameter");
 }
 
 #[test]
@@ -287,11 +384,17 @@ fn fmi3_dimensions_name_uint64_structural_parameters() {
 #[test]
 fn fmi3_model_structure_lists_outputs_by_value_reference() {
     rejected3(
-        &broken3("    <Output valueReference=\"70\"/>\n", ""),
+        &broken3(
+            "    <Output valueReference=\"70\" dependencies=\"\"/>\n",
+            "",
+        ),
         &["ModelStructure/Output", "70"],
     );
     rejected3(
-        &broken3("    <InitialUnknown valueReference=\"30\"/>\n", ""),
+        &broken3(
+            "    <InitialUnknown valueReference=\"30\" dependencies=\"1 2 3 4 5 6 9 10 12 20 40 41 42 50 51\"/>\n",
+            "",
+        ),
         &["ModelStructure/InitialUnknown"],
     );
 }
@@ -304,8 +407,8 @@ fn fmi3_capabilities_this_fmu_relies_on() {
     );
     rejected3(
         &broken3(
-            r#"fixedInternalStepSize="1e-4""#,
-            r#"fixedInternalStepSize="1e-3""#,
+            r#"canHandleVariableCommunicationStepSize="true""#,
+            r#"canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="1e-4""#,
         ),
         &["fixedInternalStepSize", "solver.time_step"],
     );
@@ -361,10 +464,10 @@ fn the_two_descriptions_may_not_drift_apart() {
     );
     disagrees(
         &broken3(
-            r#"name="plate.width" valueReference="2""#,
-            r#"name="plate.width" valueReference="3000""#,
+            r#"name="base.amplitude" valueReference="13""#,
+            r#"name="base.amplitude" valueReference="3000""#,
         ),
-        &["plate.width", "valueReference"],
+        &["base.amplitude", "valueReference"],
     );
     disagrees(
         &broken3(
@@ -401,6 +504,21 @@ fn the_two_descriptions_may_not_drift_apart() {
         ),
         &["log categories"],
     );
+    // Dependencies by name: a known more or less in one description.
+    disagrees(
+        &broken3(
+            r#"<InitialUnknown valueReference="24" dependencies="40 41 42"/>"#,
+            r#"<InitialUnknown valueReference="24" dependencies="40 41"/>"#,
+        ),
+        &["solver.free_dofs", "FMI 2.0", "FMI 3.0"],
+    );
+    // The knowns only FMI 3.0 has may be listed there alone.
+    let with_sizes = broken3(
+        r#"<InitialUnknown valueReference="24" dependencies="40 41 42"/>"#,
+        r#"<InitialUnknown valueReference="24" dependencies="40 41 42 71"/>"#,
+    );
+    check_same_variables(&check(XML).unwrap(), &check_fmi3(&with_sizes).unwrap())
+        .expect("a structural parameter FMI 2.0 lacks");
     // A scalar only in FMI 3.0: FMI 2.0 could express it.
     let extra = r#"<Float64 name="time" valueReference="0""#;
     disagrees(

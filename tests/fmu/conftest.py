@@ -133,6 +133,8 @@ class Plate:
             self.fmu.setInteger([self.vr(name)], [int(value)])
         elif kind == "Boolean":
             self.fmu.setBoolean([self.vr(name)], [bool(value)])
+        elif kind == "String":
+            self.fmu.setString([self.vr(name)], [str(value)])
         else:
             raise TypeError(kind)
 

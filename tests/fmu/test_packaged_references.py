@@ -1,8 +1,9 @@
 """What a user checks the FMU with, inside the FMU (docs/fmu.md, "What the FMU carries"): each
-packaged FMU (FMI 2.0 and 3.0) runs every experiment of its FMI-LS-REF folder, with the parameters
-of the experiment's SSV parameter set, and meets the experiment's reference result under the
-tolerances its documentation states (those of test_reference.py); each parameter set is the scene
-file it stands for; the documentation page lists every variable."""
+packaged FMU (FMI 2.0 and 3.0) runs every experiment of the experiments file its FMI-LS-REF
+manifest names, with the parameters of the experiment's SSV parameter set, and meets the
+experiment's reference result under the tolerances its documentation states (those of
+test_reference.py); each parameter set is the scene file it stands for; the documentation page
+lists every variable. test_schemas.py validates the same files against the published schemas."""
 
 import io
 import xml.etree.ElementTree as ET
@@ -44,9 +45,23 @@ def parameter_set(fmu, source):
     return values
 
 
+def experiments_file(fmu):
+    """The experiments file the manifest names, as an importer finds it."""
+    root = ET.fromstring(read(fmu, f"{LS_REF}/fmi-ls-manifest.xml"))
+    (source,) = [r.get("source") for r in root.iter("Related")
+                 if r.get("type") == "application/x-ma-hs-experiments"]
+    return source
+
+
 def experiments(fmu):
-    root = ET.fromstring(read(fmu, f"{LS_REF}/experiments.xml"))
+    root = ET.fromstring(read(fmu, f"{LS_REF}/{experiments_file(fmu)}"))
     return {e.get("name"): e for e in root.iter("Experiment")}
+
+
+def horizon(experiment):
+    """(start, stop, step) of an experiment's transient simulation."""
+    simulation = experiment.find("TransientSimulation")
+    return tuple(float(simulation.get(a)) for a in ("startTime", "stopTime", "stepSize"))
 
 
 def test_the_manifest_names_the_layered_standard_and_every_file(fmu):
@@ -57,10 +72,11 @@ def test_the_manifest_names_the_layered_standard_and_every_file(fmu):
     with zipfile.ZipFile(fmu) as z:
         names = set(z.namelist())
     for source, role in related.items():
-        path = "documentation/index.html" if source.startswith("../../") else f"{LS_REF}/{source}"
+        path = source.removeprefix("../../") if source.startswith("../../") else f"{LS_REF}/{source}"
         assert path in names, source
-    expected = {"experiments.xml": "experiment/validation",
-                "../../documentation/index.html": "document"}
+    expected = {"experiments.exp": "experiment/validation",
+                "../../documentation/index.html": "document",
+                "../../documentation/fmi-ls-ref.html": "document"}
     for scene in SCENE_NAMES:
         expected |= {f"{scene}.ssv": "parameter", f"{scene}.csv": "result"}
     assert related == expected
@@ -74,7 +90,7 @@ def test_each_parameter_set_is_its_scene_file(fmu):
         values = parameter_set(fmu, experiment.find("Parameters").get("source"))
         assert set(values) == set(parameters), scene
         scene_values, stop = scene_start_values(scene)
-        assert float(experiment.get("stopTime")) == stop
+        assert horizon(experiment) == (0.0, stop, 1e-3)
         for name, variable in parameters.items():
             # The scene's value where its file gives one, else the FMU's start value.
             expected = scene_values.get(name, variable.start)
@@ -96,9 +112,8 @@ def test_the_fmu_meets_its_packaged_reference(fmu, scene):
                               names=True, deletechars="")
     outputs = [n for n in reference.dtype.names if n != "time"]
     assert len(outputs) == 17
-    result = simulate_fmu(fmu, start_time=float(experiment.get("startTime")),
-                          stop_time=float(experiment.get("stopTime")),
-                          output_interval=float(experiment.get("stepSize")),
+    start_time, stop_time, step = horizon(experiment)
+    result = simulate_fmu(fmu, start_time=start_time, stop_time=stop_time, output_interval=step,
                           start_values=start, output=outputs)
     assert_matches(result, reference, scene)
 

@@ -1,22 +1,24 @@
-//! What the FMUs carry besides the model description and the binaries: their documentation page
+//! What the FMUs carry besides the model description and the binaries: their documentation pages
 //! and, in the layout of the FMI layered standard for references (FMI-LS-REF, version
 //! 1.0.0-alpha.1), the shipped scenes as SSP parameter sets, their reference results and the
 //! experiments that pair them (docs/fmu.md, "What the FMU carries").
 //!
 //! * `documentation/index.html`: `docs/fmu-documentation.md` rendered ([`documentation::html`]);
+//! * `documentation/fmi-ls-ref.html`: `docs/fmi-ls-ref.md` rendered, the page FMI-LS-REF
+//!   recommends for what the references are, their intent and the deviations to expect;
 //! * `extra/org.fmi-standard.fmi-ls-ref/fmi-ls-manifest.xml`: one `<Related>` per file below and
-//!   the documentation page, with its role (`parameter`, `experiment/validation`, `result`,
+//!   both documentation pages, with its role (`parameter`, `experiment/validation`, `result`,
 //!   `document`) and MIME type;
 //! * `<scene>.ssv` per scene of `scenes/` (SSP 1.0 SystemStructureParameterValues): every FMU
 //!   parameter by name with the value the FMU reports for that scene, in the units the model
 //!   description declares;
 //! * `<scene>.csv`: the scene's reference result, the golden result the test suite holds the FMU to
 //!   (`tests/fmu/reference/`, from the x86_64 Linux binary);
-//! * `experiments.xml` (the experiments format of the Modelica Association's harmonized
-//!   specifications, as far as its draft goes): per scene its start and stop time, communication
-//!   step, parameter set and reference result.
+//! * `experiments.exp` (the Experiments Format of the Modelica Association's harmonized
+//!   specifications, MA-HS-Experiments, by its draft schema): per scene a transient simulation with
+//!   its start and stop time and communication step, its parameter set and reference result.
 //!
-//! Paths in the manifest and in `experiments.xml` are relative to the folder that holds them.
+//! Paths in the manifest and in `experiments.exp` are relative to the folder that holds them.
 
 use crate::documentation;
 use plate_impact::fmi::model::Value;
@@ -32,6 +34,10 @@ pub const LS_REF: &str = "extra/org.fmi-standard.fmi-ls-ref";
 const REFERENCES: &str = "tests/fmu/reference";
 /// The communication step of the reference results (s).
 pub const REFERENCE_STEP: f64 = 1e-3;
+/// The experiments file, in `LS_REF` (MA-HS-Experiments asks for the suffix `.exp`).
+const EXPERIMENTS: &str = "experiments.exp";
+/// The page on the references, in the place FMI-LS-REF recommends, and its Markdown source.
+const REFERENCES_PAGE: (&str, &str) = ("documentation/fmi-ls-ref.html", "docs/fmi-ls-ref.md");
 
 /// One file of the FMU: its path in the archive and its bytes.
 pub type Entry = (String, Vec<u8>);
@@ -87,16 +93,19 @@ fn xml_escape(text: &str) -> String {
         .replace('\'', "&apos;")
 }
 
-/// The experiments: per scene, its horizon, the reference step, parameter set and result.
+/// The experiments in the MA-HS-Experiments format: per scene a `<TransientSimulation>` over its
+/// horizon at the reference step, its parameter set and its reference result.
 fn experiments(version: &str, scenes: &[(&str, Scene)]) -> String {
     let mut out = format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
-         <Experiments name=\"PlateImpact {version}: the shipped scenes against their reference results\">\n"
+         <Experiments name=\"PlateImpact {version}: the shipped scenes\" \
+         description=\"each shipped scene run over its horizon against its reference result\">\n"
     );
     for (name, scene) in scenes {
         let _ = write!(
             out,
-            "  <Experiment name=\"{name}\" startTime=\"0\" stopTime=\"{:?}\" stepSize=\"{REFERENCE_STEP:?}\">\n\
+            "  <Experiment name=\"{name}\" description=\"the scene {name}\">\n\
+             \x20   <TransientSimulation startTime=\"0\" stopTime=\"{:?}\" stepSize=\"{REFERENCE_STEP:?}\"/>\n\
              \x20   <Parameters source=\"{name}.ssv\"/>\n\
              \x20   <References source=\"{name}.csv\"/>\n  </Experiment>\n",
             scene.stop_time
@@ -114,9 +123,14 @@ fn manifest(scenes: &[(&str, Scene)]) -> String {
          fmi-ls:fmi-ls-name=\"org.fmi-standard.fmi-ls-ref\" fmi-ls:fmi-ls-version=\"1.0.0-alpha.1\" \
          fmi-ls:fmi-ls-description=\"Layered Standard providing information on related files included in an FMU.\">\n\
          \x20 <Related type=\"text/html\" source=\"../../documentation/index.html\" role=\"document\" \
-         description=\"the model, every variable, the scheme's settings, the reference results and their tolerances\"/>\n\
-         \x20 <Related type=\"application/x-ma-hs-experiments\" source=\"experiments.xml\" role=\"experiment/validation\" \
-         description=\"each shipped scene run over its horizon against its reference result\"/>\n",
+         description=\"the model, every variable, the scheme's settings\"/>\n\
+         \x20 <Related type=\"text/html\" source=\"../../documentation/fmi-ls-ref.html\" role=\"document\" \
+         description=\"the reference results: what they hold, how to run them, the deviations to expect\"/>\n",
+    );
+    let _ = writeln!(
+        out,
+        "  <Related type=\"application/x-ma-hs-experiments\" source=\"{EXPERIMENTS}\" role=\"experiment/validation\" \
+         description=\"each shipped scene run over its horizon against its reference result\"/>"
     );
     for (name, _) in scenes {
         let _ = write!(
@@ -151,6 +165,11 @@ pub fn entries(root: &Path, version: &str) -> Result<Vec<Entry>, String> {
         &read(documentation::PAGE_SOURCE)?,
         &format!("PlateImpact {version}"),
     );
+    let (references_page, references_source) = REFERENCES_PAGE;
+    let references = documentation::html(
+        &read(references_source)?,
+        &format!("PlateImpact {version}: reference results"),
+    );
     let scenes = NAMED_SCENES
         .iter()
         .map(|(name, _)| Scene::named(name).map(|s| (*name, s)))
@@ -158,12 +177,13 @@ pub fn entries(root: &Path, version: &str) -> Result<Vec<Entry>, String> {
         .map_err(|e| format!("a shipped scene does not load: {e}"))?;
     let mut entries: Vec<Entry> = vec![
         ("documentation/index.html".into(), page.into_bytes()),
+        (references_page.into(), references.into_bytes()),
         (
             format!("{LS_REF}/fmi-ls-manifest.xml"),
             manifest(&scenes).into_bytes(),
         ),
         (
-            format!("{LS_REF}/experiments.xml"),
+            format!("{LS_REF}/{EXPERIMENTS}"),
             experiments(version, &scenes).into_bytes(),
         ),
     ];
@@ -218,7 +238,7 @@ mod tests {
             String::from_utf8(bytes.clone()).unwrap()
         };
         let manifest = text(&format!("{LS_REF}/fmi-ls-manifest.xml"));
-        let experiments = text(&format!("{LS_REF}/experiments.xml"));
+        let experiments = text(&format!("{LS_REF}/{EXPERIMENTS}"));
         for (name, _) in NAMED_SCENES {
             for file in [format!("{name}.ssv"), format!("{name}.csv")] {
                 assert!(names.contains(&format!("{LS_REF}/{file}").as_str()));
@@ -230,6 +250,12 @@ mod tests {
             }
         }
         assert!(names.contains(&"documentation/index.html"));
-        assert_eq!(entries.len(), 3 + 2 * NAMED_SCENES.len());
+        assert!(names.contains(&"documentation/fmi-ls-ref.html"));
+        for page in ["index.html", "fmi-ls-ref.html"] {
+            assert!(manifest.contains(&format!("source=\"../../documentation/{page}\"")));
+        }
+        assert!(manifest.contains(&format!("source=\"{EXPERIMENTS}\"")));
+        assert!(experiments.contains("<TransientSimulation startTime=\"0\" stopTime=\"1.0\""));
+        assert_eq!(entries.len(), 4 + 2 * NAMED_SCENES.len());
     }
 }
