@@ -303,15 +303,11 @@ impl Stepper {
     }
 
     /// The natural frequencies f_k = ω_k/2π (Hz) of the `count` lowest modes of the plate as set
-    /// up, clamped and without contact (fewer when it has fewer dofs): from the eigenbasis of the
-    /// modal backend, or computed on the first ask by subspace iteration
-    /// ([`crate::modes::lowest`]) on the sparse backend's meshes. An error when that iteration
-    /// does not converge.
+    /// up, clamped and without contact (fewer when it has fewer dofs), computed on the first ask
+    /// by subspace iteration ([`crate::modes::lowest`]) on every backend, so that they depend on
+    /// the plate and its mesh only, not on which backend a size or a modal damping ratio selects.
+    /// An error when the iteration does not converge.
     pub fn natural_frequencies(&self, count: usize) -> Result<Vec<f64>, Error> {
-        let to_hz = |w2: &f64| w2.max(0.0).sqrt() / std::f64::consts::TAU;
-        if let Some(omega_squared) = self.backend.maps().omega_squared() {
-            return Ok(omega_squared.iter().take(count).map(to_hz).collect());
-        }
         let free = &self.run.free;
         let lowest = self.lowest_modes.get_or_init(|| {
             crate::modes::lowest::lowest_omega_squared(
@@ -320,7 +316,12 @@ impl Stepper {
                 crate::system::FREQUENCIES,
             )
         });
-        Ok(lowest.clone()?.iter().take(count).map(to_hz).collect())
+        Ok(lowest
+            .clone()?
+            .iter()
+            .take(count)
+            .map(|w2| w2.max(0.0).sqrt() / std::f64::consts::TAU)
+            .collect())
     }
 
     /// The obstacles' heights over the contact points, [h₁, h₂] relative to the levels (−∞ and +∞

@@ -49,7 +49,11 @@ from conftest import Plate, Plate3
 # switches from modal (up to 2000 free dofs: 28 x 7 Argyris cells, 1968) to sparse (29 x 7, 2038),
 # so that the size and the modal ratio show their hold on `solver.backend`.
 # (The FMI 3.0 field's structural sizes follow the mesh; FMI 2.0 has no such parameters.)
-SMALL = {"mesh.nx": 4, "mesh.ny": 2, "mesh.vertex_rows": 3, "mesh.vertex_columns": 5}
+# The probes sit on the plate off the clamp, so that they show what the plate's deflection depends
+# on.
+PROBES = {"probe1.x": 0.3, "probe1.y": 0.15, "probe2.x": 0.2, "probe2.y": 0.05,
+          "probe3.x": 0.35, "probe3.y": 0.1, "probe4.x": 0.4, "probe4.y": 0.2}
+SMALL = {"mesh.nx": 4, "mesh.ny": 2, "mesh.vertex_rows": 3, "mesh.vertex_columns": 5} | PROBES
 PRELOAD, CONTACT = "initial.preload_pressure", "contact.active_nodes"
 # Every motion parameter away from its start, the base displaced.
 MOVING = {"base.displacement": 0.002, "base.amplitude": 0.001, "base.frequency": 35.0,
@@ -61,13 +65,29 @@ POINTS = {
     # every step.
     "pressed onto the upper obstacle": SMALL | MOVING | {PRELOAD: 1e5, "load.pressure": 1e5},
     "pressed onto the lower obstacle": SMALL | MOVING | {PRELOAD: -1e5, "load.pressure": -1e5},
+    # Pressed onto eight point stops along the free edge, of the lower obstacle and then of the
+    # upper one, each carrying the plate, so that every stop's outputs show what they depend on.
+    "pressed onto lower stops": SMALL | MOVING | {
+        PRELOAD: -1e5, "load.pressure": -1e5,
+        "obstacle.lower_profile": "; ".join(
+            f"point(x = 0.4, y = {0.2 * k / 7}, offset = 0.005)" for k in range(8))},
+    "pressed onto upper stops": SMALL | MOVING | {
+        PRELOAD: 1e5, "load.pressure": 1e5,
+        "obstacle.upper_profile": "; ".join(
+            f"point(x = 0.4, y = {0.2 * k / 7}, offset = -0.005)" for k in range(8))},
     "damping ratio": SMALL | {"damping.ratio": 0.01, "damping.frequency_low": 50.0,
                               "damping.frequency_high": 500.0},
     "backend switch": {"mesh.nx": 29, "mesh.ny": 7, "mesh.vertex_rows": 8,
-                       "mesh.vertex_columns": 30},
+                       "mesh.vertex_columns": 30} | PROBES,
 }
 # Another valid value of each String parameter, to perturb it by (a text has no small change).
-STRING_VALUES = {}
+# Another valid value of each String parameter: the clamp on a second edge, profiles that tilt the
+# obstacles (the points where the preload presses the plate on an obstacle show their hold).
+STRING_VALUES = {
+    "plate.clamp": "xmin, ymin",
+    "obstacle.lower_profile": "plane(slope_x = 0.002)",
+    "obstacle.upper_profile": "plane(slope_y = -0.002)",
+}
 STEP = 1e-3
 STEPS = 3
 # A relative perturbation large enough to move every result of a set-up by more than round-off.

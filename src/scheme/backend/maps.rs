@@ -16,15 +16,7 @@ pub(in crate::scheme) enum FieldMaps<'a> {
     Sparse(&'a FreeSystem),
 }
 
-impl<'a> FieldMaps<'a> {
-    /// ω_k² of every mode, ascending, where the backend holds the eigenbasis (modal).
-    pub(in crate::scheme) fn omega_squared(self) -> Option<&'a [f64]> {
-        match self {
-            FieldMaps::Modal(data) => Some(&data.omega_squared),
-            FieldMaps::Sparse(_) => None,
-        }
-    }
-
+impl FieldMaps<'_> {
     /// Length of a field.
     pub(in crate::scheme) fn dimension(self) -> usize {
         match self {

@@ -87,7 +87,7 @@ pub(in crate::scheme) struct ModalData {
     /// The start step's undamped system, when damping makes it differ from `step`.
     pub(super) start: Option<ModalSystem>,
     /// ω_k².
-    pub(in crate::scheme) omega_squared: Vec<f64>,
+    pub(super) omega_squared: Vec<f64>,
     /// c_k = α + βω_k² + 2ζ_mω_k (1/s), the modal damping coefficients.
     pub(super) damping: Vec<f64>,
     /// Φ (free dofs × modes), to map between modal coordinates and free-dof values.
