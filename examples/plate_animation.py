@@ -1,8 +1,9 @@
 """Animated GIF of the plate from a field file written by `examples/scene.rs --field`.
 
 Each frame shows the deformed plate (the displacement at every mesh vertex, interpolated linearly
-over the cells, lit from one side), the obstacle planes, the clamped edge on its moving base, the
-vertices in contact, and the time, base position and discrete energy. The vertical axis is
+over the cells, lit from one side), the obstacles (a flat or inclined plane, a tabulated surface,
+or each local stop as a post with its footprint at its level), the clamped part of the edge on its
+moving base, the contact points in contact, and the time, base position and discrete energy. The vertical axis is
 exaggerated by a stated whole factor so that millimetre motions of a 0.4 m plate show; its ticks
 are true millimetres.
 
@@ -47,13 +48,72 @@ def boundary_edges(cells):
     return np.array([e for e, n in count.items() if n == 1])
 
 
+def obstacle_levels(field):
+    """Every level (m) an obstacle of the field takes: its surface at the vertices, or its stops'
+    levels (the level alone for a field written before profiles existed)."""
+    levels = []
+    for side in ("lower", "upper"):
+        surface = field.get(f"{side}_surface")
+        if surface is not None:
+            levels.extend(surface)
+        elif field[side] is not None and "stops" not in field:
+            levels.append(field[side])
+    levels.extend(stop["level"] for stop in field.get("stops", []))
+    return levels
+
+
 def vertical_scale(field):
     """Exaggeration of the vertical axis: the whole number that makes the span of the obstacles
     and the motion look 0.4 times as tall as the plate is long."""
     u = np.array([f["u"] for f in field["frames"]])
-    levels = [g for g in (field["lower"], field["upper"]) if g is not None]
+    levels = obstacle_levels(field)
     span = max(levels + [u.max()]) - min(levels + [u.min()])
     return max(1, round(0.4 * field["length"] / span))
+
+
+def stop_artists(stop, z_lo, z_hi):
+    """A stop drawn in mm: its footprint at its level and a post from there away from the plate
+    (down for the lower obstacle, up for the upper), as (polygons, lines)."""
+    level = 1e3 * stop["level"]
+    end = z_lo if stop["side"] == "lower" else z_hi
+    shape = stop["shape"]
+    if shape["kind"] == "point":
+        x, y = 1e3 * np.array(shape["centre"])
+        return [], [[(x, y, level), (x, y, end)]]
+    if shape["kind"] == "disc":
+        x, y = 1e3 * np.array(shape["centre"])
+        r = 1e3 * shape["radius"]
+        angles = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+        ring = [(x + r * np.cos(a), y + r * np.sin(a), level) for a in angles]
+        return [ring], [[(x, y, level), (x, y, end)]]
+    (x0, y0), (x1, y1) = 1e3 * np.array(shape["min"]), 1e3 * np.array(shape["max"])
+    corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+    return ([[(x, y, level) for x, y in corners]],
+            [[(x, y, level), (x, y, end)] for x, y in corners])
+
+
+def clamp_blocks(field, outline, xy, z, x_lo):
+    """The base as dark blocks along the clamped parts of each side, at height z (mm), and the
+    clamped outline edges as (x0, y0, x1, y1) in mm."""
+    clamped = set(field["clamped"])
+    lx, ly = 1e3 * field["length"], 1e3 * field["width"]
+    edges = [(xy[a], xy[b]) for a, b in outline if a in clamped and b in clamped]
+    depth = -x_lo
+    blocks = []
+    for (xa, ya), (xb, yb) in edges:
+        x0, x1, y0, y1 = min(xa, xb), max(xa, xb), min(ya, yb), max(ya, yb)
+        if x0 == x1 == 0:
+            blocks.append(box(-depth, 0, y0, y1, z - BASE_HALF_HEIGHT_MM, z + BASE_HALF_HEIGHT_MM))
+        elif x0 == x1 == lx:
+            blocks.append(box(lx, lx + 0.2 * depth, y0, y1, z - BASE_HALF_HEIGHT_MM,
+                              z + BASE_HALF_HEIGHT_MM))
+        elif y0 == y1 == 0:
+            blocks.append(box(x0, x1, -0.2 * depth, 0, z - BASE_HALF_HEIGHT_MM,
+                              z + BASE_HALF_HEIGHT_MM))
+        else:
+            blocks.append(box(x0, x1, ly, ly + 0.2 * depth, z - BASE_HALF_HEIGHT_MM,
+                              z + BASE_HALF_HEIGHT_MM))
+    return [face for b in blocks for face in b], edges
 
 
 def box(x0, x1, y0, y1, z0, z1):
@@ -63,6 +123,38 @@ def box(x0, x1, y0, y1, z0, z1):
     return [[c[i] for i in face] for face in faces]
 
 
+def profile_kind(field, side):
+    """A short name of an obstacle's profile: plane, inclined plane, table or its stops."""
+    profile = field.get(f"{side}_profile", "flat").strip()
+    if profile == "flat":
+        return "plane"
+    if profile.startswith(("plane", "table")):
+        return "inclined plane" if profile.startswith("plane") else "table"
+    count = sum(1 for stop in field.get("stops", []) if stop["side"] == side)
+    return f"{count} stop{'s' if count != 1 else ''}"
+
+
+def contact_marks(field, frame, xy, u):
+    """Where the contact points in contact are drawn (mm): a vertex at its deflection, a stop's own
+    point at the level of the one obstacle over or under it (it lies on it)."""
+    px, py, pz = list(xy[frame["contact"], 0]), list(xy[frame["contact"], 1]), list(
+        u[frame["contact"]])
+    points = field.get("points", [])
+    vertices = {tuple(np.round(1e3 * np.array(p), 9)) for p in xy[frame["contact"]]}
+    for i in frame.get("contact_points", []):
+        x, y = 1e3 * np.array(points[i])
+        if (round(x, 9), round(y, 9)) in vertices:
+            continue
+        heights = [(field[side], field[f"{side}_heights"][i]) for side in ("lower", "upper")
+                   if field[f"{side}_heights"][i] is not None]
+        if len(heights) == 1:
+            level, h = heights[0]
+            px.append(x)
+            py.append(y)
+            pz.append(1e3 * (level + h))
+    return px, py, pz
+
+
 def render(field, out_path, fps=20.0):
     """Writes the GIF; returns a dict that summarises what it shows."""
     frames = field["frames"]
@@ -70,7 +162,7 @@ def render(field, out_path, fps=20.0):
     tri = Triangulation(xy[:, 0], xy[:, 1], triangles(field["cells"]))
     outline = boundary_edges(field["cells"])
     lx, ly = 1e3 * field["length"], 1e3 * field["width"]
-    levels = [1e3 * g for g in (field["lower"], field["upper"]) if g is not None]
+    levels = [1e3 * g for g in obstacle_levels(field)]
     u_all = 1e3 * np.array([f["u"] for f in frames])
     z_lo = min(levels + [u_all.min()]) - 2.0
     z_hi = max(levels + [u_all.max()]) + 2.0
@@ -89,22 +181,37 @@ def render(field, out_path, fps=20.0):
     ax.view_init(elev=16, azim=-58)
     for pane in (ax.xaxis.pane, ax.yaxis.pane, ax.zaxis.pane):
         pane.set_facecolor("white")
-    # The lower plane is drawn before the plate, the upper one after it (both translucent).
-    for level in levels:
-        plane = [[0, 0, level], [lx, 0, level], [lx, ly, level], [0, ly, level]]
-        ax.add_collection3d(Poly3DCollection([plane], facecolor="0.55", edgecolor="0.3",
-                                             alpha=0.18, linewidth=0.8,
-                                             zorder=1 if level < 0 else 5))
+    # The lower obstacle is drawn before the plate, the upper one after it (both translucent):
+    # a surface over the plate, or its stops.
+    for side, order in (("lower", 1), ("upper", 5)):
+        surface = field.get(f"{side}_surface")
+        if surface is None and "stops" not in field and field[side] is not None:
+            surface = [field[side]] * len(xy)
+        if surface is None:
+            continue
+        height = 1e3 * np.array(surface)
+        polygons = [[(*xy[i], height[i]) for i in t] for t in tri.triangles]
+        ax.add_collection3d(Poly3DCollection(polygons, facecolor="0.55", edgecolor="none",
+                                             alpha=0.18, zorder=order))
+    for stop in field.get("stops", []):
+        polygons, posts = stop_artists(stop, z_lo, z_hi)
+        order = 1 if stop["side"] == "lower" else 5
+        ax.add_collection3d(Poly3DCollection(polygons, facecolor="0.35", edgecolor="0.2",
+                                             alpha=0.6, linewidth=0.6, zorder=order))
+        ax.add_collection3d(Line3DCollection(posts, colors="0.25", linewidths=2.0,
+                                             zorder=order))
     # Slow motion: each frame shows for 1/fps s of playback and covers `interval` s of motion.
     slowed = f", slowed {1 / (fps * interval):.0f}×" if interval else ""
     heading = (f"{field['element'].capitalize()}, {len(field['cells'])} cells; base "
                f"{1e3 * field['base_amplitude']:g} mm at {field['base_frequency']:g} Hz{slowed}")
     fig.text(0.02, 0.96, heading, fontsize=9)
-    obstacles = " and ".join(f"{g:+g} mm" for g in levels) or "none"
-    fig.text(0.02, 0.925, f"dark block: the moving base, clamping the edge x = 0 (black); grey "
-             f"planes: obstacles at {obstacles}", fontsize=7, color="0.3")
-    fig.text(0.02, 0.895, f"red dots: vertices in contact; vertical scale ×{scale} (ticks in true "
-             f"mm)", fontsize=7, color="0.3")
+    profiles = [f"{side} {profile_kind(field, side)} at {1e3 * field[side]:+g} mm"
+                for side in ("lower", "upper") if field[side] is not None]
+    clamp = field.get("clamp", "xmin")
+    fig.text(0.02, 0.925, f"dark blocks: the moving base, clamping {clamp} (black); grey: "
+             f"obstacles, {'; '.join(profiles) or 'none'}", fontsize=7, color="0.3")
+    fig.text(0.02, 0.895, f"red dots: contact points in contact; vertical scale ×{scale} (ticks "
+             f"in true mm)", fontsize=7, color="0.3")
     info = fig.text(0.02, 0.85, "", fontsize=8, family="monospace")
     light = LightSource(azdeg=200, altdeg=25)
 
@@ -115,24 +222,25 @@ def render(field, out_path, fps=20.0):
         for artist in dynamic:
             artist.remove()
         z = 1e3 * frame["base"]
-        base = Poly3DCollection(box(x_lo, 0, 0, ly, z - BASE_HALF_HEIGHT_MM,
-                                    z + BASE_HALF_HEIGHT_MM),
-                                facecolor="0.35", edgecolor="0.15", linewidth=0.5, zorder=2)
+        faces, clamped_edges = clamp_blocks(field, outline, xy, z, x_lo)
+        base = Poly3DCollection(faces, facecolor="0.35", edgecolor="0.15", linewidth=0.5,
+                                zorder=2)
         ax.add_collection3d(base)
         surface = ax.plot_trisurf(tri, u, color="#8fb3de", shade=True, lightsource=light,
                                   linewidth=0, antialiased=False, zorder=3)
         rim = Line3DCollection(np.dstack([xy[outline], u[outline]]), colors="0.2",
                                linewidths=0.7, zorder=3.5)
         ax.add_collection3d(rim)
-        clamp, = ax.plot([0, 0], [0, ly], [z, z], color="black", linewidth=2.5, zorder=4)
-        contact = frame["contact"]
-        marks = ax.scatter(xy[contact, 0], xy[contact, 1], u[contact], s=22,
-                           color=np.array(CONTACT_COLOUR) / 255,
+        clamp = Line3DCollection([[(a[0], a[1], z), (b[0], b[1], z)] for a, b in clamped_edges],
+                                 colors="black", linewidths=2.5, zorder=4)
+        ax.add_collection3d(clamp)
+        px, py, pz = contact_marks(field, frame, xy, u)
+        marks = ax.scatter(px, py, pz, s=22, color=np.array(CONTACT_COLOUR) / 255,
                            edgecolor="black", linewidth=0.6, depthshade=False, zorder=4)
         dynamic = [base, surface, rim, clamp, marks]
-        contact_frames += bool(contact)
+        contact_frames += bool(len(px))
         info.set_text(f"t = {frame['t']:.4f} s   base z = {z:+5.2f} mm   "
-                      f"E = {frame['energy']:6.3f} J   contact: {len(contact):2d} vertices")
+                      f"E = {frame['energy']:6.3f} J   contact: {len(px):2d} points")
         fig.canvas.draw()
         images.append(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy())
     plt.close(fig)

@@ -16,7 +16,9 @@
 //!   (`vertices` [x, y] in m, `cells` as vertex ids, `clamped` the clamp's vertex ids), the
 //!   obstacle levels (null when absent), profiles and clamp as given, the contact points
 //!   (`points` [x, y] in m, with the obstacles' heights over them `lower_heights`,
-//!   `upper_heights`, null where absent), and one frame per record with `t` (s), `base` z(t_n)
+//!   `upper_heights`, null where absent), each obstacle's level at every vertex where its
+//!   profile covers the plate (`lower_surface`, `upper_surface`, null for stops), the stops
+//!   (`stops`: side, shape and level), and one frame per record with `t` (s), `base` z(t_n)
 //!   (m), `energy` (J), `u` the displacement u_n at every vertex (m; clamp vertices carry z(t_n)),
 //!   `contact` the vertices whose contact force is nonzero and `contact_points` the contact points
 //!   whose force is nonzero (indices into `points`).
@@ -27,7 +29,7 @@
 mod common;
 
 use common::{exit_code, positive_integer, set_override};
-use plate_impact::scene::Scene;
+use plate_impact::scene::{ObstacleSide, Profile, Scene, StopShape};
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
 use serde_json::{json, Value};
@@ -82,6 +84,48 @@ fn parse() -> Result<Options, String> {
     Ok(options)
 }
 
+/// The level of an enabled obstacle whose profile covers the plate (flat, plane, table) at every
+/// mesh vertex (m), `null` for stops or a disabled obstacle: the surface an animation draws.
+fn surface(scene: &Scene, side: ObstacleSide, vertices: &[[f64; 2]]) -> Value {
+    let (Some(level), Ok(profile)) = (scene.level(side), scene.profile(side)) else {
+        return Value::Null;
+    };
+    let heights: Option<Vec<f64>> = vertices
+        .iter()
+        .map(|&p| profile.plate_height(p, scene.size()).map(|h| level + h))
+        .collect();
+    heights.map_or(Value::Null, |h| json!(h))
+}
+
+/// The stops of the enabled obstacles, numbered as the per-stop outputs number them: side, kind,
+/// footprint (m) and level (m).
+fn stops(scene: &Scene) -> Value {
+    let mut out = Vec::new();
+    for side in ObstacleSide::BOTH {
+        let (Some(level), Ok(Profile::Stops(stops))) = (scene.level(side), scene.profile(side))
+        else {
+            continue;
+        };
+        for stop in stops {
+            let shape = match stop.shape {
+                StopShape::Point(p) => json!({"kind": "point", "centre": p}),
+                StopShape::Disc { centre, radius } => {
+                    json!({"kind": "disc", "centre": centre, "radius": radius})
+                }
+                StopShape::Rectangle { min, max } => {
+                    json!({"kind": "rectangle", "min": min, "max": max})
+                }
+            };
+            let side = match side {
+                ObstacleSide::Lower => "lower",
+                ObstacleSide::Upper => "upper",
+            };
+            out.push(json!({"side": side, "shape": shape, "level": level + stop.offset}));
+        }
+    }
+    Value::Array(out)
+}
+
 /// The displacement at every mesh vertex, from the stepper, with the contact points of the
 /// obstacles and which of them carry a force.
 struct VertexField {
@@ -123,6 +167,9 @@ impl VertexField {
             "points": layout.points.iter().map(|p| p.position).collect::<Vec<_>>(),
             "lower_heights": finite(&lower_heights),
             "upper_heights": finite(&upper_heights),
+            "lower_surface": surface(scene, ObstacleSide::Lower, &disc.mesh.vertices),
+            "upper_surface": surface(scene, ObstacleSide::Upper, &disc.mesh.vertices),
+            "stops": stops(scene),
         });
         VertexField {
             point_vertex: layout.points.iter().map(|p| p.vertex).collect(),

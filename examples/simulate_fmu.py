@@ -1,14 +1,18 @@
-"""Main job: the paper's scenes through the packaged FMU, an animation of the plate, its modes.
+"""Main job: the shipped scenes through the packaged FMU, animations of the plate, its modes.
 
-* Through the FMU (fmpy): the scenes `forced` (10 Hz), `forced-35hz`, `forced-35hz-damped` (the
-  same with stiffness-proportional damping, ζ₁ = 1 %: the setting whose impact statistics
-  converge, docs/accuracy/damping.md) and `energy`, with the FMU parameters set from the scene
+* Through the FMU (fmpy): the paper's scenes `forced` (10 Hz), `forced-35hz`,
+  `forced-35hz-damped` (the same with stiffness-proportional damping, ζ₁ = 1 %: the setting whose
+  impact statistics converge, docs/accuracy/damping.md) and `energy`, and the scenes of the
+  paper's whole model `stud-corner` (a stud under a free corner), `clamped-panel` (a panel clamped
+  all round on a central stud) and `inclined-support`, with the FMU parameters set from the scene
   files in `scenes/`: `out/<scene>.csv` (every output, every 1 ms) and `out/<scene>.png`
-  (free-corner and edge-midpoint displacements, energy).
+  (displacements of the corners off the clamp and of the probes placed, the stop's force where
+  there is one, energy).
 * Through the library (`examples/scene.rs --field`): the displacement at every mesh vertex of
   `forced-35hz` over three forcing periods from 0.4 s, `out/plate-field.json`, rendered as
-  `out/plate.gif` (`examples/plate_animation.py`). Its free-corner values and energy are checked
-  against the FMU's outputs at the same instants.
+  `out/plate.gif` (`examples/plate_animation.py`), and of `stud-corner` over two periods,
+  `out/stud-corner.gif`. Their corner values and energy are checked against the FMU's outputs at
+  the same instants.
 * The lowest six mode shapes of the paper's plate (`examples/modes.rs --shapes`):
   `out/modes.json`, plotted as `out/modes.png` (`examples/mode_shapes.py`).
 
@@ -37,10 +41,14 @@ from plateimpact_tools import DEFAULT_FMU, ROOT  # noqa: E402
 from plateimpact_tools.scene_values import scene as start_values  # noqa: E402
 
 OUTPUTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
-           "energy.kinetic", "energy.elastic", "energy.total", "contact.active_nodes", "contact.force"]
-# The animation: scene, start (s), forcing periods shown, internal steps per frame (0.6 ms at the
-# scene's Δt = 0.1 ms: an impact, about 1.8 ms long, spans three frames).
-ANIMATION = {"scene": "forced-35hz", "start": 0.4, "periods": 3, "every": 6}
+           "probe1.displacement", "probe2.displacement", "energy.kinetic", "energy.elastic",
+           "energy.total", "contact.active_nodes", "contact.force", "stop1.force"]
+# The animations: scene, start (s), forcing periods shown, internal steps per frame (0.6 ms at the
+# scene's Δt = 0.1 ms: an impact, about 1.8 ms long, spans three frames) and the file.
+ANIMATIONS = [
+    {"scene": "forced-35hz", "start": 0.4, "periods": 3, "every": 6, "gif": "plate.gif"},
+    {"scene": "stud-corner", "start": 0.4, "periods": 2, "every": 5, "gif": "stud-corner.gif"},
+]
 # The field's free-corner values and the FMU's corner outputs are the same discrete field
 # evaluated by two different sums (vertex values against point functionals), so they agree to
 # round-off (measured 2e-18 m); a wrong vertex numbering would differ by millimetres.
@@ -79,14 +87,17 @@ def simulate(fmu, scene_name, out_dir):
                header=",".join(names), comments="")
     print(f"{shown(csv)}: {len(result)} rows of time and {len(names) - 1} FMU outputs every 1 ms, "
           f"{wall:.2f} s wall time")
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
-    for name, label in [("corner1.displacement", "corner (Lx, 0)"),
-                        ("corner2.displacement", "corner (Lx, Ly)"),
-                        ("edge_mid.displacement", "edge midpoint (Lx, Ly/2)")]:
+    stops = "stop1.force" in names and np.any(result["stop1.force"] != 0)
+    fig, axes = plt.subplots(3 if stops else 2, 1, figsize=(9, 8 if stops else 6), sharex=True)
+    ax1, ax2 = axes[0], axes[-1]
+    for name, label in displacement_curves(values):
         ax1.plot(result["time"], 1e3 * result[name], label=label, lw=0.8)
     ax1.set_ylabel("displacement (mm)")
     ax1.legend(loc="upper right", fontsize=8)
     ax1.set_title(f"PlateImpact FMU, scene '{scene_name}' ({wall:.1f} s wall time)")
+    if stops:
+        axes[1].plot(result["time"], result["stop1.force"], lw=0.8, color="C3")
+        axes[1].set_ylabel("stop 1 force (N)")
     for name in ["energy.kinetic", "energy.elastic", "energy.total"]:
         ax2.plot(result["time"], result[name], label=name, lw=0.8)
     ax2.set_xlabel("time (s)")
@@ -96,10 +107,27 @@ def simulate(fmu, scene_name, out_dir):
     png = out_dir / f"{scene_name}.png"
     fig.savefig(png, dpi=110)
     plt.close(fig)
-    print(f"{shown(png)}: corners and energy of '{scene_name}', max |corner1| = "
-          f"{1e3 * np.abs(result['corner1.displacement']).max():.3f} mm, "
-          f"{impacts(result['contact.active_nodes'])} contact episodes, "
-          f"final energy {result['energy.total'][-1]:.3f} J")
+    largest = max(np.abs(result[name]).max() for name, _ in displacement_curves(values))
+    stop_line = f", stop 1 force up to {np.abs(result['stop1.force']).max():.0f} N" if stops else ""
+    print(f"{shown(png)}: displacements and energy of '{scene_name}', largest |u| = "
+          f"{1e3 * largest:.3f} mm, {impacts(result['contact.active_nodes'])} contact episodes"
+          f"{stop_line}, final energy {result['energy.total'][-1]:.3f} J")
+
+
+def displacement_curves(values):
+    """(output, label) of the displacements a scene's plot shows: the corners and edge midpoint
+    unless the whole x = Lx edge is clamped (then they follow the base), and the probes the scene
+    places (off their start at the corner (0, 0))."""
+    curves = []
+    if values.get("plate.clamp", "xmin").strip() not in ("all", "xmax"):
+        curves += [("corner1.displacement", "corner (Lx, 0)"),
+                   ("corner2.displacement", "corner (Lx, Ly)"),
+                   ("edge_mid.displacement", "edge midpoint (Lx, Ly/2)")]
+    for k in (1, 2):
+        x, y = values.get(f"probe{k}.x", 0.0), values.get(f"probe{k}.y", 0.0)
+        if (x, y) != (0.0, 0.0):
+            curves.append((f"probe{k}.displacement", f"probe {k} ({x:g}, {y:g}) m"))
+    return curves
 
 
 def run_example(name, args):
@@ -142,14 +170,14 @@ def compare_with_fmu(fmu, field, values):
     return matched, corner_gap, energy_gap
 
 
-def animate(fmu, out_dir):
+def animate(fmu, out_dir, animation):
     """The plate's field from the library, checked against the FMU, rendered as a GIF."""
-    scene = ANIMATION["scene"]
+    scene = animation["scene"]
     values, _ = start_values(scene)
-    stop = ANIMATION["start"] + ANIMATION["periods"] / values["base.frequency"]
-    path = out_dir / "plate-field.json"
-    run_example("scene", [scene, f"stop_time={stop!r}", "--from", str(ANIMATION["start"]),
-                          "--every", str(ANIMATION["every"]), "--field", str(path)])
+    stop = animation["start"] + animation["periods"] / values["base.frequency"]
+    path = out_dir / f"{pathlib.Path(animation['gif']).stem}-field.json"
+    run_example("scene", [scene, f"stop_time={stop!r}", "--from", str(animation["start"]),
+                          "--every", str(animation["every"]), "--field", str(path)])
     field = json.loads(path.read_text())
     matched, corner_gap, energy_gap = compare_with_fmu(fmu, field, values)
     frames = field["frames"]
@@ -158,7 +186,7 @@ def animate(fmu, out_dir):
           f"{frames[-1]['t']:.4f} s; "
           f"at {matched} frames the free corners equal the FMU's outputs to {corner_gap:.1e} m "
           f"and the energy to {energy_gap:.1e} J")
-    gif = out_dir / "plate.gif"
+    gif = out_dir / animation["gif"]
     print(plate_animation.summary(shown(gif), plate_animation.render(field, gif)))
 
 
@@ -179,14 +207,16 @@ def main():
     parser.add_argument("--fmu", default=str(DEFAULT_FMU))
     parser.add_argument("--out", default=str(ROOT / "out"))
     parser.add_argument("scenes", nargs="*",
-                        default=["forced", "forced-35hz", "forced-35hz-damped", "energy"],
+                        default=["forced", "forced-35hz", "forced-35hz-damped", "energy",
+                                 "stud-corner", "clamped-panel", "inclined-support"],
                         help="scenes run through the FMU (file stems of scenes/, or default)")
     args = parser.parse_args()
     out_dir = pathlib.Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)
     for scene_name in args.scenes:
         simulate(args.fmu, scene_name, out_dir)
-    animate(args.fmu, out_dir)
+    for animation in ANIMATIONS:
+        animate(args.fmu, out_dir, animation)
     plot_modes(out_dir)
 
 

@@ -508,8 +508,12 @@ impl Default for Scene {
 /// The named scenes shipped in `scenes/`, as (name, JSON text). `forced-35hz-damped` is
 /// `forced-35hz` with stiffness-proportional damping β = 2ζ₁/ω₁ = 5.913e-5 s, ζ₁ = 1 % on the
 /// first mode of the paper's mesh (ω₁ = 338.23 rad/s, 53.83 Hz): the high modes damped enough
-/// for its impact statistics to converge at Δt = 1e-4 s (docs/accuracy/damping.md).
-pub const NAMED_SCENES: [(&str, &str); 5] = [
+/// for its impact statistics to converge at Δt = 1e-4 s (docs/accuracy/damping.md). The last three
+/// use the paper's whole model (docs/model.md §8): `stud-corner`, the damped plate shaken at
+/// 35 Hz onto a stud under a free corner; `clamped-panel`, a 2 mm panel clamped on all four edges
+/// (f₁ = 307.7 Hz), shaken at 250 Hz onto a stud under its centre; `inclined-support`, the
+/// `energy` release onto an inclined lower support.
+pub const NAMED_SCENES: [(&str, &str); 8] = [
     ("forced", include_str!("../scenes/forced.json")),
     ("forced-30hz", include_str!("../scenes/forced-30hz.json")),
     ("forced-35hz", include_str!("../scenes/forced-35hz.json")),
@@ -518,6 +522,15 @@ pub const NAMED_SCENES: [(&str, &str); 5] = [
         include_str!("../scenes/forced-35hz-damped.json"),
     ),
     ("energy", include_str!("../scenes/energy.json")),
+    ("stud-corner", include_str!("../scenes/stud-corner.json")),
+    (
+        "clamped-panel",
+        include_str!("../scenes/clamped-panel.json"),
+    ),
+    (
+        "inclined-support",
+        include_str!("../scenes/inclined-support.json"),
+    ),
 ];
 
 /// Largest number of cells along one side of a structured mesh: beyond it the dense parts of the
@@ -629,6 +642,34 @@ impl Scene {
         let mut s = self.fixed_part();
         s.solver.qp = QpChoice::Auto;
         s
+    }
+
+    /// The dotted name of the first parameter whose value differs between `self` and `other`, in
+    /// alphabetical order of the names, with both values as JSON: what a message names when two
+    /// scenes must agree (a restored state's fixed parameters and the running model's).
+    pub fn first_difference(&self, other: &Scene) -> Option<(String, String, String)> {
+        fn walk(
+            a: &serde_json::Value,
+            b: &serde_json::Value,
+            path: &str,
+        ) -> Option<(String, String, String)> {
+            match (a, b) {
+                (serde_json::Value::Object(x), serde_json::Value::Object(y)) => {
+                    x.iter().find_map(|(key, value)| {
+                        let name = if path.is_empty() {
+                            key.clone()
+                        } else {
+                            format!("{path}.{key}")
+                        };
+                        walk(value, y.get(key).unwrap_or(&serde_json::Value::Null), &name)
+                    })
+                }
+                _ if a != b => Some((path.to_string(), a.to_string(), b.to_string())),
+                _ => None,
+            }
+        }
+        let tree = |s: &Scene| serde_json::to_value(s).expect("a scene always serializes");
+        walk(&tree(self), &tree(other), "")
     }
 
     /// The length that scales the obstacle tolerances (m): the room the plate at rest has, from
@@ -1104,6 +1145,23 @@ mod tests {
         s.obstacle.lower_enabled = false;
         assert_eq!(s.gap(), 1.0);
         assert!(s.first_outside(&u, flat, 0.0).is_none());
+    }
+
+    #[test]
+    fn the_first_difference_names_the_parameter_and_both_values() {
+        let s = Scene::default();
+        assert_eq!(s.first_difference(&s), None);
+        let mut other = s.clone();
+        other.obstacle.lower_profile = "point(x=0.1, y=0.1)".to_string();
+        other.stop_time = 2.0;
+        assert_eq!(
+            s.first_difference(&other),
+            Some((
+                "obstacle.lower_profile".to_string(),
+                "\"flat\"".to_string(),
+                "\"point(x=0.1, y=0.1)\"".to_string()
+            ))
+        );
     }
 
     #[test]

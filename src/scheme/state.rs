@@ -199,11 +199,19 @@ impl Model<'_> {
     /// every level within them), and its energies and outputs are finite.
     pub(super) fn check<'s>(&self, state: &'s State) -> Result<CheckedState<'s>, Error> {
         // A state moves freely between the fast path and the clarabel reference.
-        if state.scene.fixed_part_ignoring_qp() != self.scene.fixed_part_ignoring_qp() {
+        let (theirs, ours) = (
+            state.scene.fixed_part_ignoring_qp(),
+            self.scene.fixed_part_ignoring_qp(),
+        );
+        if let Some((name, state_value, model_value)) = theirs.first_difference(&ours) {
             return Err(Error::invalid_state(
-                "scene",
-                "<scene>",
-                "must have the fixed parameters of the running model",
+                &format!("scene.{name}"),
+                state_value,
+                &format!(
+                    "must have the fixed parameters of the running model, whose {name} is \
+                     {model_value}: a state is restored only into an instance set up with the \
+                     same fixed parameters"
+                ),
             ));
         }
         state.scene.validate()?;

@@ -57,8 +57,14 @@ def assert_matches(result, reference, scene):
     with time and every output): the rule the FMU's packaged reference results state too."""
     assert len(result) == len(reference)
     np.testing.assert_allclose(result["time"], reference["time"], rtol=0, atol=1e-12)
-    for name in ["corner1.displacement", "corner2.displacement", "edge_mid.displacement"]:
+    for name in regenerate.DISPLACEMENTS:
         np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=DISPLACEMENT_ATOL,
+                                   err_msg=f"{scene}: {name}")
+    for name in regenerate.VELOCITIES:
+        # A velocity is a displacement's slope over one internal step: held, as the forces, to
+        # 1e-5 of its largest value (at least 1e-6 m/s).
+        scale = max(np.max(np.abs(reference[name])), 1e-6)
+        np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=FORCE_RTOL * scale,
                                    err_msg=f"{scene}: {name}")
     energy_scale = np.max(np.abs(reference["energy.total"]))
     for name in regenerate.ENERGIES:
@@ -76,9 +82,22 @@ def assert_matches(result, reference, scene):
 
 
 def test_the_golden_results_are_not_trivial():
-    """Each scene moves and the impact scenes hit: a reference of zeros would test nothing."""
+    """Each scene moves and hits (the stop scenes their stop): a reference of zeros would test
+    nothing. The smallest scene is the 2 mm panel, shaken by 0.1 mm and held 0.2 mm above its
+    stud: a deflection of a tenth of a millimetre and a base force of a hundred newtons."""
     for scene in SCENE_NAMES:
         reference = regenerate.read(regenerate.HERE / f"{scene}.csv")
-        assert np.max(np.abs(reference["corner1.displacement"])) > 1e-3, scene
+        moved = max(np.max(np.abs(reference[name])) for name in regenerate.DISPLACEMENTS)
+        assert moved > 1e-4, scene
         assert np.count_nonzero(reference["contact.active_nodes"]) >= 10, scene
-        assert np.sum(reference["contact.impacts"]) >= 5 and np.max(np.abs(reference["base.force"])) > 1e3, scene
+        assert np.sum(reference["contact.impacts"]) >= 5, scene
+        assert np.max(np.abs(reference["base.force"])) > 100, scene
+        if start_values_have_stops(scene):
+            assert np.sum(reference["stop1.impacts"]) >= 5, scene
+
+
+def start_values_have_stops(scene):
+    """Whether the scene's lower obstacle is made of local stops."""
+    start, _ = scene_start_values(scene)
+    profile = start.get("obstacle.lower_profile", "flat")
+    return any(kind in profile for kind in ("point(", "disc(", "rectangle("))

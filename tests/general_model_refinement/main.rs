@@ -1,6 +1,6 @@
 //! Refinement studies of the generalised model, on both elements: the spectra of three clamps
-//! and the static deflection of a plate preloaded onto a stud, on meshes halving h (docs/
-//! general-model-verification.md); and the spectra against GetFEM when it is installed. Slower
+//! and the static deflection of a plate preloaded onto a stud, on meshes halving h (docs/model.md
+//! §9); and the spectra against GetFEM when it is installed. Slower
 //! than tests/general_model/ (the finest meshes have 5 000 to 6 500 dofs, GetFEM runs eight
 //! times), hence a binary of their own.
 

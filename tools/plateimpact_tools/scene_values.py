@@ -67,4 +67,6 @@ def parse_value(name, text, variables):
         return ELEMENT[text] if text in ELEMENT else int(text)
     if kind == "Integer":
         return int(text)
+    if kind == "String":
+        return str(text)
     return float(text)

@@ -41,13 +41,25 @@ OUTPUTS = [
     "contact.impulse",
     "contact.peak_force",
     "base.mean_force",
+    "probe1.displacement",
+    "probe2.displacement",
+    "probe1.velocity",
+    "probe2.velocity",
+    "stop1.force",
+    "stop1.impulse",
+    "stop1.impacts",
 ]
-INTEGERS = ("contact.active_nodes", "contact.impacts")
+INTEGERS = ("contact.active_nodes", "contact.impacts", "stop1.impacts")
 # Outputs compared as energies (against the scene's largest |energy.total| or flow) and as forces
 # (against the scene's largest force of the same kind): see tests/fmu/test_reference.py.
 ENERGIES = ["energy.kinetic", "energy.elastic", "energy.total", "energy.base_work", "energy.load_work",
             "energy.contact_loss", "energy.damping_loss"]
-FORCES = ["contact.force", "base.force", "contact.peak_force", "contact.impulse", "base.mean_force"]
+FORCES = ["contact.force", "base.force", "contact.peak_force", "contact.impulse", "base.mean_force",
+          "stop1.force", "stop1.impulse"]
+# Displacements compared in metres, and velocities against each one's largest value.
+DISPLACEMENTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
+                 "probe1.displacement", "probe2.displacement"]
+VELOCITIES = ["probe1.velocity", "probe2.velocity"]
 
 
 def scenes():
