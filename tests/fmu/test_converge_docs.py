@@ -1,5 +1,5 @@
 """The numbers docs/converge/README.md and README.md state about the documented example follow
-from its committed output, docs/converge/runs.csv: the rule (plateimpact_tools.converge.rule)
+from its committed output, docs/converge/runs.csv: the rule (plateimpact_tools.rule)
 replayed on the runs' values and spreads gives the verdict line, the error bounds, the ladder
 table and the cost the pages print. No FMU runs: a rerun of the example that moves a number fails
 here until the prose follows."""
@@ -9,7 +9,8 @@ import re
 from collections import defaultdict
 
 from conftest import ROOT
-from plateimpact_tools.converge import rule, states
+from plateimpact_tools import rule
+from plateimpact_tools.converge import states
 from plateimpact_tools.converge.study import refinement_ratio
 
 DOCS = ROOT / "docs" / "converge"

@@ -1,4 +1,4 @@
-"""The convergence rule of scripts/converge (plateimpact_tools.converge.rule) and the grouping of
+"""The convergence rule of scripts/converge (plateimpact_tools.rule) and the grouping of
 runs into steady states (plateimpact_tools.converge.states) on synthetic ladders: no FMU runs.
 
 A ladder is walked as the study walks it: after each refinement the rule judges the last three
@@ -9,7 +9,8 @@ tolerance allows; where it accepts, the printed error bound must contain the tru
 import math
 import random
 
-from plateimpact_tools.converge import rule, states
+from plateimpact_tools import rule
+from plateimpact_tools.converge import states
 
 TOL = 0.01
 

@@ -30,7 +30,7 @@ deviation of the window values / √K (the peak: of the window peaks).
 
 Starts (`--starts`, default all): abrupt, ramp, sweep-up, sweep-down, kick
 (`plateimpact_tools.converge.runs`). Method: `plateimpact_tools.converge.study`; the rule:
-`plateimpact_tools.converge.rule`; steady states: `plateimpact_tools.converge.states`.
+`plateimpact_tools.rule`; steady states: `plateimpact_tools.converge.states`.
 
 Output: DIR/runs.csv (one row per run and quantity), DIR/report.md, DIR/work_precision.png;
 progress on stderr; the last line of stdout `converged: ...` or `not converged: ...`.

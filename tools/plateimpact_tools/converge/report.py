@@ -2,7 +2,7 @@
 steady states with their shares and error bounds, the rule's judgement of each ladder, every run)
 and work_precision.png."""
 
-from plateimpact_tools.converge import rule
+from plateimpact_tools import rule
 from plateimpact_tools.converge.runs import ADVICE_PREFIX
 from plateimpact_tools.converge.states import state_value
 from plateimpact_tools.plotting import pyplot, save

@@ -30,7 +30,8 @@ when the spread is what fails, else more budget.
 import math
 import sys
 
-from plateimpact_tools.converge import rule, runs
+from plateimpact_tools import rule
+from plateimpact_tools.converge import runs
 from plateimpact_tools.converge.cost import plate_size, run_cost
 from plateimpact_tools.converge.states import group, impacting, state_value
 from plateimpact_tools.fmu_dask import run_tasks
