@@ -12,6 +12,7 @@ mod study;
 
 mod accuracy;
 mod damping;
+mod limits;
 mod modal_damping;
 mod readme;
 mod statistics;
@@ -27,13 +28,14 @@ fn root() -> &'static Path {
 type Document = (&'static str, fn() -> claims::Claims);
 
 /// The documents whose prose is checked.
-const DOCUMENTS: [Document; 6] = [
+const DOCUMENTS: [Document; 7] = [
     ("README.md", readme::claims),
     ("docs/studies.md", studies::claims),
     ("docs/accuracy/README.md", accuracy::claims),
     ("docs/accuracy/statistics.md", statistics::claims),
     ("docs/accuracy/damping.md", damping::claims),
     ("docs/accuracy/modal_damping.md", modal_damping::claims),
+    ("docs/limits.md", limits::claims),
 ];
 
 /// Checks the claims of `document`.
@@ -96,6 +98,11 @@ fn damping() {
 #[test]
 fn modal_damping() {
     check("docs/accuracy/modal_damping.md");
+}
+
+#[test]
+fn limits() {
+    check("docs/limits.md");
 }
 
 /// The start-up warning's finding for a modal ratio restates the study's numbers.

@@ -144,13 +144,18 @@ def judge_setting(runs: list[Run], run: Run, tolerance: float = TOLERANCE) -> Se
     return Setting(run, dt_ladder, mesh_ladder, not whys, bound, "; ".join(whys))
 
 
+def judge_settings(runs: list[Run], element: str, tolerance: float = TOLERANCE) -> list[Setting]:
+    """The rule at every setting of the element."""
+    own = [r for r in runs if r.element == element]
+    return [judge_setting(own, r, tolerance) for r in own]
+
+
 def judge_element(runs: list[Run], element: str, tolerance: float = TOLERANCE) -> Verdict:
     """The element's verdict: converged at its accepted setting of smallest relative bound, or
     not, with the reason at its setting of most evidence."""
-    own = [r for r in runs if r.element == element]
-    if not own:
+    settings = judge_settings(runs, element, tolerance)
+    if not settings:
         return Verdict(element, False, None, f"no runs on {element}")
-    settings = [judge_setting(own, r, tolerance) for r in own]
     accepted = [s for s in settings if s.accepted]
     if accepted:
         best = min(accepted, key=lambda s: (s.bound / abs(s.run.value), -s.run.cells, s.run.dt))
@@ -200,8 +205,6 @@ def rows(key: tuple[str, str, str], verdicts: dict[str, Verdict]) -> list[list[s
         v = verdicts[element]
         s = v.setting
         why = v.why
-        if element == "both" and not v.accepted:
-            why = v.why
         cells = [*key, element, "converged" if v.accepted else "not converged"]
         if s is None:
             cells += ["", "", "", "", "", "", "", "", ""]
@@ -226,3 +229,36 @@ def write(path, judged: dict[tuple[str, str, str], dict[str, Verdict]]) -> None:
         writer.writerow(HEADER)
         for key, verdicts in judged.items():
             writer.writerows(rows(key, verdicts))
+
+
+LADDER_HEADER = ["scene", "damping", "quantity", "mesh", "dt", "verdict", "bound", "dt_ladder",
+                 "dt_verdict", "dt_bound", "dt_order", "dt_why", "mesh_ladder", "mesh_verdict",
+                 "mesh_bound", "mesh_order", "mesh_why"]
+
+
+def ladder_cells(ladder: Ladder | None, kind: str) -> list[str]:
+    if ladder is None:
+        return ["", "none", "", "", "fewer than three"]
+    j = ladder.judgement
+    settings = (" ".join(f"{r.dt:g}" for r in ladder.runs) if kind == "dt"
+                else " ".join(f"{r.nx}x{r.ny}" for r in ladder.runs))
+    return [settings, "accepted" if j.accepted else "refused", f"{j.bound:.4g}",
+            f"{j.order:.3g}" if j.order is not None else "", j.why]
+
+
+def write_ladders(path, study: dict[tuple[str, str, str], list[Run]]) -> None:
+    """Writes the rule at every setting of a study (LADDER_HEADER): both ladders, their
+    judgements, bounds, observed orders and reasons; `study` maps (scene, damping, quantity) to
+    its runs."""
+    with open(path, "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(LADDER_HEADER)
+        for key, runs in study.items():
+            for element in ELEMENTS:
+                for s in sorted(judge_settings(runs, element),
+                                key=lambda s: (s.run.cells, -s.run.dt)):
+                    writer.writerow([*key, f"{s.run.element}:{s.run.nx}x{s.run.ny}",
+                                     f"{s.run.dt:g}",
+                                     "converged" if s.accepted else "not converged",
+                                     f"{s.bound:.4g}", *ladder_cells(s.dt_ladder, "dt"),
+                                     *ladder_cells(s.mesh_ladder, "mesh")])

@@ -4,7 +4,8 @@ Usage: python -m plateimpact_tools.studies.modal_damping_plots DIR [--tables-onl
 DIR/modal_damping.csv, modal_damping_bands.csv, modal_damping_meshes.csv, modal_damping_meta.csv
 and, when present, modal_damping_periods.csv (`cargo run --release --example modal_damping`);
 writes DIR/modal_damping_verdicts.csv (the rule's verdict on every scene, ratio, quantity and
-element, `plateimpact_tools.studies.evidence`), the part of DIR/modal_damping.md between its
+element, `plateimpact_tools.studies.evidence`), DIR/modal_damping_ladders.csv (the rule at every
+setting: its Δt and mesh ladders and what it said of each), the part of DIR/modal_damping.md between its
 `generated: modal-damping` markers (the rest of the page is hand-written) and, unless
 --tables-only, DIR/modal_damping_dt.png (each time average against ω_max·Δt, one line per mesh),
 DIR/modal_damping_mesh.png (each mesh at its smallest Δt against its free dofs),
@@ -97,9 +98,10 @@ def evidence_runs(by_mesh):
             for runs in by_mesh.values() for r in runs]
 
 
-def judged(table):
-    """The rule's verdicts on every (scene, ratio, quantity) of the study, in the CSV's order."""
-    return {(scene, f"{zeta:g}", quantity): evidence.judge(evidence_runs(by_mesh))
+def study_runs(table):
+    """The runs of every (scene, ratio, quantity) of the study, in the CSV's order, as the rule
+    reads them."""
+    return {(scene, f"{zeta:g}", quantity): evidence_runs(by_mesh)
             for (scene, zeta, quantity), by_mesh in table.items()}
 
 
@@ -395,8 +397,10 @@ def main():
     bands = read(out / "modal_damping_bands.csv")
     scenes = [s for s in SCENES if any(r["scene"] == s for r in rows)]
     zetas = sorted({r["modal_ratio"] for r in rows})
-    verdicts = judged(table)
+    runs_of = study_runs(table)
+    verdicts = {key: evidence.judge(runs) for key, runs in runs_of.items()}
     evidence.write(out / "modal_damping_verdicts.csv", verdicts)
+    evidence.write_ladders(out / "modal_damping_ladders.csv", runs_of)
     correlation = (out / "modal_damping_periods.csv").exists()
     if not tables_only:
         plot_dt(table, scenes, zetas, out)
