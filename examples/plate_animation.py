@@ -92,19 +92,39 @@ def render(field, out_path, fps=20.0):
     # The lower plane is drawn before the plate, the upper one after it (both translucent).
     for level in levels:
         plane = [[0, 0, level], [lx, 0, level], [lx, ly, level], [0, ly, level]]
-        ax.add_collection3d(Poly3DCollection([plane], facecolor="0.55", edgecolor="0.3",
-                                             alpha=0.18, linewidth=0.8,
-                                             zorder=1 if level < 0 else 5))
+        ax.add_collection3d(
+            Poly3DCollection(
+                [plane],
+                facecolor="0.55",
+                edgecolor="0.3",
+                alpha=0.18,
+                linewidth=0.8,
+                zorder=1 if level < 0 else 5,
+            )
+        )
     # Slow motion: each frame shows for 1/fps s of playback and covers `interval` s of motion.
     slowed = f", slowed {1 / (fps * interval):.0f}×" if interval else ""
-    heading = (f"{field['element'].capitalize()}, {len(field['cells'])} cells; base "
-               f"{1e3 * field['base_amplitude']:g} mm at {field['base_frequency']:g} Hz{slowed}")
+    heading = (
+        f"{field['element'].capitalize()}, {len(field['cells'])} cells; base "
+        f"{1e3 * field['base_amplitude']:g} mm at {field['base_frequency']:g} Hz{slowed}"
+    )
     fig.text(0.02, 0.96, heading, fontsize=9)
     obstacles = " and ".join(f"{g:+g} mm" for g in levels) or "none"
-    fig.text(0.02, 0.925, f"dark block: the moving base, clamping the edge x = 0 (black); grey "
-             f"planes: obstacles at {obstacles}", fontsize=7, color="0.3")
-    fig.text(0.02, 0.895, f"red dots: vertices in contact; vertical scale ×{scale} (ticks in true "
-             f"mm)", fontsize=7, color="0.3")
+    fig.text(
+        0.02,
+        0.925,
+        f"dark block: the moving base, clamping the edge x = 0 (black); grey "
+        f"planes: obstacles at {obstacles}",
+        fontsize=7,
+        color="0.3",
+    )
+    fig.text(
+        0.02,
+        0.895,
+        f"red dots: vertices in contact; vertical scale ×{scale} (ticks in true mm)",
+        fontsize=7,
+        color="0.3",
+    )
     info = fig.text(0.02, 0.85, "", fontsize=8, family="monospace")
     light = LightSource(azdeg=200, altdeg=25)
 
@@ -115,24 +135,47 @@ def render(field, out_path, fps=20.0):
         for artist in dynamic:
             artist.remove()
         z = 1e3 * frame["base"]
-        base = Poly3DCollection(box(x_lo, 0, 0, ly, z - BASE_HALF_HEIGHT_MM,
-                                    z + BASE_HALF_HEIGHT_MM),
-                                facecolor="0.35", edgecolor="0.15", linewidth=0.5, zorder=2)
+        base = Poly3DCollection(
+            box(x_lo, 0, 0, ly, z - BASE_HALF_HEIGHT_MM, z + BASE_HALF_HEIGHT_MM),
+            facecolor="0.35",
+            edgecolor="0.15",
+            linewidth=0.5,
+            zorder=2,
+        )
         ax.add_collection3d(base)
-        surface = ax.plot_trisurf(tri, u, color="#8fb3de", shade=True, lightsource=light,
-                                  linewidth=0, antialiased=False, zorder=3)
-        rim = Line3DCollection(np.dstack([xy[outline], u[outline]]), colors="0.2",
-                               linewidths=0.7, zorder=3.5)
+        surface = ax.plot_trisurf(
+            tri,
+            u,
+            color="#8fb3de",
+            shade=True,
+            lightsource=light,
+            linewidth=0,
+            antialiased=False,
+            zorder=3,
+        )
+        rim = Line3DCollection(
+            np.dstack([xy[outline], u[outline]]), colors="0.2", linewidths=0.7, zorder=3.5
+        )
         ax.add_collection3d(rim)
-        clamp, = ax.plot([0, 0], [0, ly], [z, z], color="black", linewidth=2.5, zorder=4)
+        (clamp,) = ax.plot([0, 0], [0, ly], [z, z], color="black", linewidth=2.5, zorder=4)
         contact = frame["contact"]
-        marks = ax.scatter(xy[contact, 0], xy[contact, 1], u[contact], s=22,
-                           color=np.array(CONTACT_COLOUR) / 255,
-                           edgecolor="black", linewidth=0.6, depthshade=False, zorder=4)
+        marks = ax.scatter(
+            xy[contact, 0],
+            xy[contact, 1],
+            u[contact],
+            s=22,
+            color=np.array(CONTACT_COLOUR) / 255,
+            edgecolor="black",
+            linewidth=0.6,
+            depthshade=False,
+            zorder=4,
+        )
         dynamic = [base, surface, rim, clamp, marks]
         contact_frames += bool(contact)
-        info.set_text(f"t = {frame['t']:.4f} s   base z = {z:+5.2f} mm   "
-                      f"E = {frame['energy']:6.3f} J   contact: {len(contact):2d} vertices")
+        info.set_text(
+            f"t = {frame['t']:.4f} s   base z = {z:+5.2f} mm   "
+            f"E = {frame['energy']:6.3f} J   contact: {len(contact):2d} vertices"
+        )
         fig.canvas.draw()
         images.append(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy())
     plt.close(fig)
@@ -142,12 +185,19 @@ def render(field, out_path, fps=20.0):
     # the pixels that change from one frame to the next.
     swatch = np.broadcast_to(np.array(CONTACT_COLOUR, dtype=np.uint8), (64, *images[0].shape[1:]))
     sample = np.concatenate(images[:: max(1, len(images) // 8)] + [swatch], axis=0)
-    palette = Image.fromarray(sample).quantize(colors=PALETTE_COLOURS,
-                                               method=Image.Quantize.MEDIANCUT)
+    palette = Image.fromarray(sample).quantize(
+        colors=PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT
+    )
     gif = [Image.fromarray(a).quantize(palette=palette, dither=Image.Dither.NONE) for a in images]
     out_path = pathlib.Path(out_path)
-    gif[0].save(out_path, save_all=True, append_images=gif[1:], duration=round(1000 / fps),
-                loop=0, optimize=True)
+    gif[0].save(
+        out_path,
+        save_all=True,
+        append_images=gif[1:],
+        duration=round(1000 / fps),
+        loop=0,
+        optimize=True,
+    )
     return {
         "frames": len(frames),
         "t0": frames[0]["t"],
@@ -161,9 +211,11 @@ def render(field, out_path, fps=20.0):
 
 def summary(path, s):
     """One line that says what the GIF shows."""
-    return (f"{path}: {s['frames']} frames, t = {s['t0']:.4f} to {s['t1']:.4f} s every "
-            f"{1e3 * s['frame_interval']:.2f} ms, {s['contact_frames']} with contact, vertical "
-            f"scale ×{s['vertical_scale']}, {s['bytes'] / 1024:.0f} KB")
+    return (
+        f"{path}: {s['frames']} frames, t = {s['t0']:.4f} to {s['t1']:.4f} s every "
+        f"{1e3 * s['frame_interval']:.2f} ms, {s['contact_frames']} with contact, vertical "
+        f"scale ×{s['vertical_scale']}, {s['bytes'] / 1024:.0f} KB"
+    )
 
 
 def main():

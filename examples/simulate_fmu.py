@@ -36,8 +36,16 @@ import plate_animation  # noqa: E402
 from plateimpact_tools import DEFAULT_FMU, ROOT  # noqa: E402
 from plateimpact_tools.scene_values import scene as start_values  # noqa: E402
 
-OUTPUTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
-           "energy.kinetic", "energy.elastic", "energy.total", "contact.active_nodes", "contact.force"]
+OUTPUTS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "edge_mid.displacement",
+    "energy.kinetic",
+    "energy.elastic",
+    "energy.total",
+    "contact.active_nodes",
+    "contact.force",
+]
 # The animation: scene, start (s), forcing periods shown, internal steps per frame (0.6 ms at the
 # scene's Δt = 0.1 ms: an impact, about 1.8 ms long, spans three frames).
 ANIMATION = {"scene": "forced-35hz", "start": 0.4, "periods": 3, "every": 6}
@@ -70,19 +78,29 @@ def simulate(fmu, scene_name, out_dir):
     else:
         values, stop = start_values(scene_name)
     t0 = time.perf_counter()
-    result = fmpy.simulate_fmu(fmu, start_values=values, stop_time=stop, output_interval=1e-3,
-                               output=OUTPUTS)
+    result = fmpy.simulate_fmu(
+        fmu, start_values=values, stop_time=stop, output_interval=1e-3, output=OUTPUTS
+    )
     wall = time.perf_counter() - t0
     names = result.dtype.names
     csv = out_dir / f"{scene_name}.csv"
-    np.savetxt(csv, np.column_stack([result[n] for n in names]), delimiter=",",
-               header=",".join(names), comments="")
-    print(f"{shown(csv)}: {len(result)} rows of time and {len(names) - 1} FMU outputs every 1 ms, "
-          f"{wall:.2f} s wall time")
+    np.savetxt(
+        csv,
+        np.column_stack([result[n] for n in names]),
+        delimiter=",",
+        header=",".join(names),
+        comments="",
+    )
+    print(
+        f"{shown(csv)}: {len(result)} rows of time and {len(names) - 1} FMU outputs every 1 ms, "
+        f"{wall:.2f} s wall time"
+    )
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
-    for name, label in [("corner1.displacement", "corner (Lx, 0)"),
-                        ("corner2.displacement", "corner (Lx, Ly)"),
-                        ("edge_mid.displacement", "edge midpoint (Lx, Ly/2)")]:
+    for name, label in [
+        ("corner1.displacement", "corner (Lx, 0)"),
+        ("corner2.displacement", "corner (Lx, Ly)"),
+        ("edge_mid.displacement", "edge midpoint (Lx, Ly/2)"),
+    ]:
         ax1.plot(result["time"], 1e3 * result[name], label=label, lw=0.8)
     ax1.set_ylabel("displacement (mm)")
     ax1.legend(loc="upper right", fontsize=8)
@@ -96,10 +114,12 @@ def simulate(fmu, scene_name, out_dir):
     png = out_dir / f"{scene_name}.png"
     fig.savefig(png, dpi=110)
     plt.close(fig)
-    print(f"{shown(png)}: corners and energy of '{scene_name}', max |corner1| = "
-          f"{1e3 * np.abs(result['corner1.displacement']).max():.3f} mm, "
-          f"{impacts(result['contact.active_nodes'])} contact episodes, "
-          f"final energy {result['energy.total'][-1]:.3f} J")
+    print(
+        f"{shown(png)}: corners and energy of '{scene_name}', max |corner1| = "
+        f"{1e3 * np.abs(result['corner1.displacement']).max():.3f} mm, "
+        f"{impacts(result['contact.active_nodes'])} contact episodes, "
+        f"final energy {result['energy.total'][-1]:.3f} J"
+    )
 
 
 def run_example(name, args):
@@ -116,14 +136,22 @@ def compare_with_fmu(fmu, field, values):
     the same instants (the FMU is run with the field's frame interval as communication step)."""
     frames = field["frames"]
     interval = frames[1]["t"] - frames[0]["t"]
-    result = fmpy.simulate_fmu(fmu, start_values=values, stop_time=frames[-1]["t"],
-                               output_interval=interval,
-                               output=["corner1.displacement", "corner2.displacement",
-                                       "energy.total"])
+    result = fmpy.simulate_fmu(
+        fmu,
+        start_values=values,
+        stop_time=frames[-1]["t"],
+        output_interval=interval,
+        output=["corner1.displacement", "corner2.displacement", "energy.total"],
+    )
     xy = np.array(field["vertices"])
-    corners = [int(np.flatnonzero(np.all(np.isclose(xy, [field["length"], y], rtol=0,
-                                                     atol=1e-12), axis=1))[0])
-               for y in (0.0, field["width"])]
+    corners = [
+        int(
+            np.flatnonzero(
+                np.all(np.isclose(xy, [field["length"], y], rtol=0, atol=1e-12), axis=1)
+            )[0]
+        )
+        for y in (0.0, field["width"])
+    ]
     corner_gap, energy_gap, matched = 0.0, 0.0, 0
     for frame in frames:
         row = np.flatnonzero(np.abs(result["time"] - frame["t"]) < 1e-9 * interval)
@@ -137,8 +165,10 @@ def compare_with_fmu(fmu, field, values):
     if matched < len(frames) // 2:
         sys.exit(f"only {matched} of {len(frames)} field frames fall on FMU output times")
     if corner_gap > CORNER_TOLERANCE_M:
-        sys.exit(f"the field's free corners differ from the FMU's corner outputs by "
-                 f"{corner_gap:.3g} m (limit {CORNER_TOLERANCE_M:g} m)")
+        sys.exit(
+            f"the field's free corners differ from the FMU's corner outputs by "
+            f"{corner_gap:.3g} m (limit {CORNER_TOLERANCE_M:g} m)"
+        )
     return matched, corner_gap, energy_gap
 
 
@@ -148,16 +178,29 @@ def animate(fmu, out_dir):
     values, _ = start_values(scene)
     stop = ANIMATION["start"] + ANIMATION["periods"] / values["base.frequency"]
     path = out_dir / "plate-field.json"
-    run_example("scene", [scene, f"stop_time={stop!r}", "--from", str(ANIMATION["start"]),
-                          "--every", str(ANIMATION["every"]), "--field", str(path)])
+    run_example(
+        "scene",
+        [
+            scene,
+            f"stop_time={stop!r}",
+            "--from",
+            str(ANIMATION["start"]),
+            "--every",
+            str(ANIMATION["every"]),
+            "--field",
+            str(path),
+        ],
+    )
     field = json.loads(path.read_text())
     matched, corner_gap, energy_gap = compare_with_fmu(fmu, field, values)
     frames = field["frames"]
-    print(f"{shown(path)}: '{scene}' from the library, {len(frames)} frames of u at "
-          f"{len(field['vertices'])} vertices, t = {frames[0]['t']:.4f} to "
-          f"{frames[-1]['t']:.4f} s; "
-          f"at {matched} frames the free corners equal the FMU's outputs to {corner_gap:.1e} m "
-          f"and the energy to {energy_gap:.1e} J")
+    print(
+        f"{shown(path)}: '{scene}' from the library, {len(frames)} frames of u at "
+        f"{len(field['vertices'])} vertices, t = {frames[0]['t']:.4f} to "
+        f"{frames[-1]['t']:.4f} s; "
+        f"at {matched} frames the free corners equal the FMU's outputs to {corner_gap:.1e} m "
+        f"and the energy to {energy_gap:.1e} J"
+    )
     gif = out_dir / "plate.gif"
     print(plate_animation.summary(shown(gif), plate_animation.render(field, gif)))
 
@@ -165,11 +208,12 @@ def animate(fmu, out_dir):
 def plot_modes(out_dir):
     """The lowest mode shapes of the paper's plate."""
     path = out_dir / "modes.json"
-    run_example("modes", [*MODES["mesh"], "--shapes", str(path), "--refine",
-                          str(MODES["refine"])])
+    run_example("modes", [*MODES["mesh"], "--shapes", str(path), "--refine", str(MODES["refine"])])
     data = json.loads(path.read_text())
-    print(f"{shown(path)}: {len(data['shapes'])} mode shapes of the {data['element']} "
-          f"{data['nx']} × {data['ny']} plate on a {len(data['x'])} × {len(data['y'])} grid")
+    print(
+        f"{shown(path)}: {len(data['shapes'])} mode shapes of the {data['element']} "
+        f"{data['nx']} × {data['ny']} plate on a {len(data['x'])} × {len(data['y'])} grid"
+    )
     png = out_dir / "modes.png"
     print(mode_shapes.summary(shown(png), mode_shapes.render(data, png)))
 
@@ -178,9 +222,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fmu", default=str(DEFAULT_FMU))
     parser.add_argument("--out", default=str(ROOT / "out"))
-    parser.add_argument("scenes", nargs="*",
-                        default=["forced", "forced-35hz", "forced-35hz-damped", "energy"],
-                        help="scenes run through the FMU (file stems of scenes/, or default)")
+    parser.add_argument(
+        "scenes",
+        nargs="*",
+        default=["forced", "forced-35hz", "forced-35hz-damped", "energy"],
+        help="scenes run through the FMU (file stems of scenes/, or default)",
+    )
     args = parser.parse_args()
     out_dir = pathlib.Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)

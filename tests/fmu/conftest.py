@@ -19,6 +19,7 @@ from fmpy.logging import addLoggerProxy
 from ctypes import byref
 
 from plateimpact_tools import ROOT, SCENES  # noqa: F401 (the tests' names)
+
 # (start values, stop time) of a shipped scene: the tests' name for the package's reader.
 from plateimpact_tools.scene_values import scene as scene_start_values  # noqa: F401
 
@@ -28,7 +29,8 @@ def pytest_configure(config):
     the 2-core machine). The full suite (`pytest tests/fmu`, scripts/test-all) runs them; a quick
     loop leaves them out with `-m "not slow"`."""
     config.addinivalue_line(
-        "markers", "slow: minutes of FMU runs; the full suite runs it, -m 'not slow' skips it")
+        "markers", "slow: minutes of FMU runs; the full suite runs it, -m 'not slow' skips it"
+    )
 
 
 @pytest.fixture(scope="session")
@@ -48,7 +50,9 @@ def fmu_path():
 @pytest.fixture(scope="session")
 def fmu3_path(fmu_path):
     """The FMI 3.0 FMU, built with the FMI 2.0 one (or $PLATE_IMPACT_FMU3)."""
-    return os.environ.get("PLATE_IMPACT_FMU3") or str(ROOT / "target" / "fmu" / "PlateImpact-fmi3.fmu")
+    return os.environ.get("PLATE_IMPACT_FMU3") or str(
+        ROOT / "target" / "fmu" / "PlateImpact-fmi3.fmu"
+    )
 
 
 @pytest.fixture(scope="session")
@@ -158,7 +162,9 @@ class Plate:
         self.time += h
 
     def outputs(self):
-        names = [n for n, v in self.variables.items() if v.causality == "output" and v.type == "Real"]
+        names = [
+            n for n, v in self.variables.items() if v.causality == "output" and v.type == "Real"
+        ]
         return self.fmu.getReal([self.vr(n) for n in names])
 
     def errors(self):

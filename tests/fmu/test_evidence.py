@@ -19,7 +19,7 @@ def ladder_runs(value, element="argyris", spread=1e-4, meshes=MESHES, dts=DTS):
 def power_law(nx, ny, dt):
     """1 + a small error in the cell size (order 2) and in Δt (order 1): converged to 1 %."""
     h = 1.0 / math.sqrt(nx * ny)
-    return 1.0 + 0.002 * h ** 2 + 0.5 * dt
+    return 1.0 + 0.002 * h**2 + 0.5 * dt
 
 
 def test_a_converging_study_is_accepted_with_the_sum_of_both_bounds():
@@ -37,10 +37,13 @@ def test_a_converging_study_is_accepted_with_the_sum_of_both_bounds():
 def test_meshes_are_compared_at_one_dt_only():
     """Each mesh ran its own Δt: no three meshes share one, so no mesh ladder and no verdict,
     however close the values."""
-    runs = [Run("argyris", nx, ny, dt, 1.0, 1e-4)
-            for (nx, ny), dts in zip(MESHES, [[1e-3, 1e-4, 1e-5], [1e-4, 1e-5, 1e-6],
-                                             [1e-5, 1e-6, 1e-7]])
-            for dt in dts]
+    runs = [
+        Run("argyris", nx, ny, dt, 1.0, 1e-4)
+        for (nx, ny), dts in zip(
+            MESHES, [[1e-3, 1e-4, 1e-5], [1e-4, 1e-5, 1e-6], [1e-5, 1e-6, 1e-7]]
+        )
+        for dt in dts
+    ]
     verdict = evidence.judge_element(runs, "argyris")
     assert not verdict.accepted
     assert "fewer than three meshes" in verdict.why
@@ -49,8 +52,10 @@ def test_meshes_are_compared_at_one_dt_only():
 def test_a_first_pair_that_disagrees_refuses_the_ladder():
     """The periodic response at the largest Δt, 5 % off, then two agreeing runs: one agreeing
     pair is no evidence, and the studies never let an observed order stand in for the first."""
+
     def value(nx, ny, dt):
         return 1.05 if dt == 1e-4 else 1.0 + 1e-4 * dt / 1e-6
+
     verdict = evidence.judge_element(ladder_runs(value), "argyris")
     assert not verdict.accepted
     assert "Δt" in verdict.why and "a pair disagrees" in verdict.why
@@ -59,8 +64,10 @@ def test_a_first_pair_that_disagrees_refuses_the_ladder():
 def test_an_unsettled_run_never_serves_as_the_value():
     """Argyris 10 × 7 moves 3 % per decade of Δt, the other meshes not at all. Its runs are
     refused as settings, and the element's value is that of an accepted setting."""
+
     def value(nx, ny, dt):
         return 1.0 + (0.03 * dt / 1e-4 if nx == 10 else 0.0)
+
     runs = ladder_runs(value, meshes=MESHES + [(14, 10)])
     unsettled = [r for r in runs if r.nx == 10]
     assert not any(evidence.judge_setting(runs, r).accepted for r in unsettled)
@@ -71,8 +78,9 @@ def test_an_unsettled_run_never_serves_as_the_value():
 
 
 def test_elements_that_disagree_beyond_their_bounds_refuse_the_quantity():
-    runs = ladder_runs(power_law) + ladder_runs(lambda nx, ny, dt: 1.05 * power_law(nx, ny, dt),
-                                                element="fvs")
+    runs = ladder_runs(power_law) + ladder_runs(
+        lambda nx, ny, dt: 1.05 * power_law(nx, ny, dt), element="fvs"
+    )
     verdicts = evidence.judge(runs)
     assert verdicts["argyris"].accepted and verdicts["fvs"].accepted
     assert not verdicts["both"].accepted and "disagree" in verdicts["both"].why

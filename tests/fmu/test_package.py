@@ -27,7 +27,9 @@ def test_model_description_matches_spec(model_description):
     assert float(experiment.startTime) == 0 and float(experiment.stopTime) == 1
     assert float(experiment.stepSize) == 1e-3
     by_name = {v.name: v for v in md.modelVariables}
-    assert by_name["mesh.element"].type == "Integer"  # engines that ignore FMI 2.0 enumerations can set it
+    assert (
+        by_name["mesh.element"].type == "Integer"
+    )  # engines that ignore FMI 2.0 enumerations can set it
     assert (by_name["mesh.element"].min, by_name["mesh.element"].max) == ("1", "2")
     assert by_name["base.displacement"].causality == "input"
     assert by_name["obstacle.lower"].variability == "tunable"

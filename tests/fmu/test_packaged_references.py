@@ -59,8 +59,10 @@ def test_the_manifest_names_the_layered_standard_and_every_file(fmu):
     for source, role in related.items():
         path = "documentation/index.html" if source.startswith("../../") else f"{LS_REF}/{source}"
         assert path in names, source
-    expected = {"experiments.xml": "experiment/validation",
-                "../../documentation/index.html": "document"}
+    expected = {
+        "experiments.xml": "experiment/validation",
+        "../../documentation/index.html": "document",
+    }
     for scene in SCENE_NAMES:
         expected |= {f"{scene}.ssv": "parameter", f"{scene}.csv": "result"}
     assert related == expected
@@ -92,14 +94,19 @@ def test_the_fmu_meets_its_packaged_reference(fmu, scene):
     experiment = experiments(fmu)[scene]
     start = parameter_set(fmu, experiment.find("Parameters").get("source"))
     source = experiment.find("References").get("source")
-    reference = np.genfromtxt(io.BytesIO(read(fmu, f"{LS_REF}/{source}")), delimiter=",",
-                              names=True, deletechars="")
+    reference = np.genfromtxt(
+        io.BytesIO(read(fmu, f"{LS_REF}/{source}")), delimiter=",", names=True, deletechars=""
+    )
     outputs = [n for n in reference.dtype.names if n != "time"]
     assert len(outputs) == 17
-    result = simulate_fmu(fmu, start_time=float(experiment.get("startTime")),
-                          stop_time=float(experiment.get("stopTime")),
-                          output_interval=float(experiment.get("stepSize")),
-                          start_values=start, output=outputs)
+    result = simulate_fmu(
+        fmu,
+        start_time=float(experiment.get("startTime")),
+        stop_time=float(experiment.get("stopTime")),
+        output_interval=float(experiment.get("stepSize")),
+        start_values=start,
+        output=outputs,
+    )
     assert_matches(result, reference, scene)
 
 

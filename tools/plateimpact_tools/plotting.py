@@ -9,8 +9,10 @@ def pyplot():
     """matplotlib.pyplot on the Agg backend: figures are written to files, never shown, so the
     plots run where there is no display (CI, a remote machine)."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 

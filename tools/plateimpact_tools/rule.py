@@ -67,6 +67,7 @@ class Judgement:
     """What the rule says of the last three settings: `accepted`, the error bound `bound` of
     v_c (absolute, same unit), the observed order (None when the last change is within its
     noise or the changes alternate), and `why` (a short reason when rejected)."""
+
     accepted: bool
     bound: float
     order: float | None
@@ -80,7 +81,7 @@ def observed_order(d1, d2, r1, r2):
     target = abs(d1 / d2)
 
     def ratio(p):
-        return r2 ** p * (r1 ** p - 1) / (r2 ** p - 1)
+        return r2**p * (r1**p - 1) / (r2**p - 1)
 
     lo, hi = 1e-9, 30.0
     if ratio(hi) < target:
@@ -117,7 +118,7 @@ def judge(values, spreads, ratios, tolerance, extrapolate=True, taken=0.0):
         return Judgement(False, math.inf, None, "the changes do not shrink")
     order = None
     if not significant2:
-        bound = SAFETY * (abs(d2) + SIGMAS * s2) / (r2 ** P_MIN - 1) + noise
+        bound = SAFETY * (abs(d2) + SIGMAS * s2) / (r2**P_MIN - 1) + noise
     elif d1 * d2 < 0:  # an oscillation about the limit: it lies between v_b and v_c
         bound = SAFETY * abs(d2) + noise
     else:

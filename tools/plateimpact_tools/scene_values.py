@@ -37,6 +37,7 @@ def read(path):
     text = path.read_text()
     if path.suffix == ".toml":
         import tomllib
+
         data = tomllib.loads(text)
     else:
         data = json.loads(text)

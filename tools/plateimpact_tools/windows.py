@@ -28,8 +28,14 @@ QUANTITIES = {
     "impact_rate": ("1/s", "contact.impacts per second"),
 }
 # The Real outputs `window_values` reads, in the order of its record's columns.
-REALS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.damping_loss",
-         "energy.contact_loss", "base.mean_force"]
+REALS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "energy.total",
+    "energy.damping_loss",
+    "energy.contact_loss",
+    "base.mean_force",
+]
 
 
 def rms(x):
@@ -89,6 +95,7 @@ def period_blocks(periods, blocks, periods_per_step, steps):
     """Row bounds of `blocks` blocks of whole forcing periods in a span of `periods` periods and
     `steps` steps (`periods_per_step` = f·h): block k holds periods [round(kP/B), round((k+1)P/B)),
     to the nearest step, as (a, b) slices of the rows after the span's first."""
-    edges = [min(steps, round(round(k * periods / blocks) / periods_per_step))
-             for k in range(blocks + 1)]
+    edges = [
+        min(steps, round(round(k * periods / blocks) / periods_per_step)) for k in range(blocks + 1)
+    ]
     return [(a, b) for a, b in zip(edges, edges[1:]) if b > a]

@@ -39,8 +39,12 @@ def _plate_size(fmu_path, start_values):
     directory = fmu_dir(blob, hashlib.sha256(blob).hexdigest())
     md = read_model_description(directory)
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=directory,
-                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="plate-size")
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=directory,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="plate-size",
+    )
     try:
         fmu.instantiate()
         fmu.setupExperiment(startTime=0.0)
@@ -67,5 +71,8 @@ def run_cost(size, element, dt, simulated, h):
     free, backend = size
     (setup, p_setup), (step, p_step) = RUN_COST[(element, backend)]
     n = free / 1000
-    return (setup * n ** p_setup + 1e-6 * step * n ** p_step * simulated / dt
-            + 1e-6 * COMMUNICATION_STEP_US * simulated / h)
+    return (
+        setup * n**p_setup
+        + 1e-6 * step * n**p_step * simulated / dt
+        + 1e-6 * COMMUNICATION_STEP_US * simulated / h
+    )

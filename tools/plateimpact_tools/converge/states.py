@@ -46,6 +46,7 @@ def differ(a, b, quantities, tolerance, sigmas=STATE_SIGMAS):
 class State:
     """A group of starts at one setting: `name` (A, B, …), `starts` (their indices, in start
     order)."""
+
     name: str
     starts: list
 
@@ -87,7 +88,7 @@ def state_value(stats, members, quantity):
     statistics are `stats` (module docs)."""
     values = np.array([stats[m][quantity][0] for m in members])
     spreads = np.array([stats[m][quantity][1] for m in members])
-    windows = math.sqrt(float(np.mean(spreads ** 2)))
+    windows = math.sqrt(float(np.mean(spreads**2)))
     scatter = float(np.std(values, ddof=1)) if len(members) > 1 else 0.0
     return float(values.mean()), max(windows, scatter)
 

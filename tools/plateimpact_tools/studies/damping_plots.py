@@ -49,8 +49,14 @@ MODEL_TITLES = {
     "modal": "modal ζ_m = 1 %",
     "beta-half": "β only, ζ₁ = 0.5 %",
 }
-QUANTITIES = ["mean_energy_J", "rms_corner_m", "mean_abs_base_force_N", "rms_base_force_N",
-              "impacts_per_period", "contact_loss_per_period_J"]
+QUANTITIES = [
+    "mean_energy_J",
+    "rms_corner_m",
+    "mean_abs_base_force_N",
+    "rms_base_force_N",
+    "impacts_per_period",
+    "contact_loss_per_period_J",
+]
 FINEST = ("argyris", 14, 10)
 FVS_FINEST = ("fvs", 14, 10)
 # The parts of the plan the model comparison reads (a CSV without parts is all grid).
@@ -59,8 +65,14 @@ COMPARED = ("grid", "contact-loss")
 THRESHOLD_MODELS = ["beta", "beta-half", "rayleigh-5k", "modal"]
 THRESHOLD_AT = ("forced-35hz", ("argyris", 10, 7))
 # The finer-reference table: β at 1e-6 s on these meshes.
-FINER_MESHES = [("argyris", 10, 7), ("argyris", 14, 10), ("argyris", 20, 14), ("fvs", 14, 10),
-                ("fvs", 20, 14), ("fvs", 28, 20)]
+FINER_MESHES = [
+    ("argyris", 10, 7),
+    ("argyris", 14, 10),
+    ("argyris", 20, 14),
+    ("fvs", 14, 10),
+    ("fvs", 20, 14),
+    ("fvs", 28, 20),
+]
 
 
 def read_rows(out):
@@ -89,13 +101,19 @@ def load(out):
         m["key"] = (m["element"], int(m["nx"]), int(m["ny"]))
         m["free_dofs"] = int(m["free_dofs"])
         m["omega_max"] = float(m["omega_max_rad_s"])
-    study.mesh_keys = [m["key"] for m in sorted(study.meshes,
-                                                key=lambda m: (m["element"], m["free_dofs"]))
-                       if m["key"] in compared]
+    study.mesh_keys = [
+        m["key"]
+        for m in sorted(study.meshes, key=lambda m: (m["element"], m["free_dofs"]))
+        if m["key"] in compared
+    ]
     study.meta = {row["key"]: row["value"] for row in sp.read(out / "damping_meta.csv")}
     study.replicas = []
-    study.scenes = [f"{s}/{m}" for s in SCENES for m in MODELS
-                    if any(r["scene"] == f"{s}/{m}" for r in study.rows)]
+    study.scenes = [
+        f"{s}/{m}"
+        for s in SCENES
+        for m in MODELS
+        if any(r["scene"] == f"{s}/{m}" for r in study.rows)
+    ]
     study.reference_mesh = FINEST
     for s in study.scenes:
         scene, model = s.split("/")
@@ -125,7 +143,9 @@ def dt_settled(study, scene, quantity, mesh, tolerance):
     start = None
     for r in reversed(runs[:-1]):
         scale = abs(last["value"])
-        err = (abs(r["value"] - last["value"]) + 2 * math.hypot(r["spread"], last["spread"])) / scale
+        err = (
+            abs(r["value"] - last["value"]) + 2 * math.hypot(r["spread"], last["spread"])
+        ) / scale
         if err > tolerance:
             break
         start = r
@@ -146,8 +166,10 @@ def mesh_settled(study, scene, quantity, tolerance):
     for m in reversed(argyris[:-1]):
         r = at[m]
         scale = abs(top["value"])
-        err = abs(r["value"] - top["value"]) / scale + 2 * math.hypot(r["spread"],
-                                                                      top["spread"]) / scale
+        err = (
+            abs(r["value"] - top["value"]) / scale
+            + 2 * math.hypot(r["spread"], top["spread"]) / scale
+        )
         if err > tolerance:
             break
         start = m
@@ -191,15 +213,17 @@ def table(study, scene):
             cheap = []
             for tol in sp.TOLERANCES:
                 ok = within(study, coarser, tol) and within(study, fvs, tol)
-                cheap.append(setting(study.cheapest(key, q, tol)) if ok
-                             else "no reference to this tolerance")
+                cheap.append(
+                    setting(study.cheapest(key, q, tol)) if ok else "no reference to this tolerance"
+                )
             lines.append(
                 f"| {MODEL_TITLES[model]} | {sp.md_name(q)}{sp.unit(q)} "
                 f"| {sp.with_spread(q, ref)} at {ref['dt']:g} s | {rel(study, coarser, ref)} "
                 f"| {rel(study, fvs, ref)} "
                 f"| {'Δt = ' + format(settled['dt'], 'g') + ' s' if settled else 'no'} "
                 f"| {sp.mesh_name(mesh_from) + ' (Δt = ' + format(mesh_dt, 'g') + ' s)' if mesh_from else 'no'} "
-                f"| {cheap[0]} | {cheap[1]} |")
+                f"| {cheap[0]} | {cheap[1]} |"
+            )
     return lines
 
 
@@ -208,25 +232,33 @@ def contact_loss_table(study, model):
     q = "contact_loss_per_period_J"
     runs = [r for s in SCENES for r in study.select(f"{s}/{model}", q)]
     steps = sorted({r["dt"] for r in runs}, reverse=True)
-    lines = [f"#### Energy removed at the obstacles per period (J), {MODEL_TITLES[model]}", "",
-             "| scene | mesh | " + " | ".join(f"Δt = {dt:g} s" for dt in steps) + " |",
-             "|---|---|" + "---|" * len(steps)]
+    lines = [
+        f"#### Energy removed at the obstacles per period (J), {MODEL_TITLES[model]}",
+        "",
+        "| scene | mesh | " + " | ".join(f"Δt = {dt:g} s" for dt in steps) + " |",
+        "|---|---|" + "---|" * len(steps),
+    ]
     for scene in SCENES:
         for mesh in study.mesh_keys:
             by_dt = {r["dt"]: r for r in study.select(f"{scene}/{model}", q, mesh)}
             if by_dt:
                 cells = [sp.number(by_dt[dt]["value"], 4) if dt in by_dt else "" for dt in steps]
-                lines.append(f"| {SCENE_SHORT[scene]} | {sp.mesh_name(mesh)} | "
-                             + " | ".join(cells) + " |")
+                lines.append(
+                    f"| {SCENE_SHORT[scene]} | {sp.mesh_name(mesh)} | " + " | ".join(cells) + " |"
+                )
     return lines
 
 
 def contact_loss_plot(study, out):
     """Contact loss per period against Δt, per mesh, one panel per (scene, model)."""
-    models = [m for m in ("beta", "rayleigh-1k", "rayleigh-5k", "rayleigh-20k")
-              if any(f"{s}/{m}" in study.scenes for s in SCENES)]
-    fig, axes = plt.subplots(len(SCENES), len(models), figsize=(4.2 * len(models), 7.6),
-                             squeeze=False)
+    models = [
+        m
+        for m in ("beta", "rayleigh-1k", "rayleigh-5k", "rayleigh-20k")
+        if any(f"{s}/{m}" in study.scenes for s in SCENES)
+    ]
+    fig, axes = plt.subplots(
+        len(SCENES), len(models), figsize=(4.2 * len(models), 7.6), squeeze=False
+    )
     q = "contact_loss_per_period_J"
     data = []
     for i, scene in enumerate(SCENES):
@@ -237,13 +269,19 @@ def contact_loss_plot(study, out):
                 meshes = [m for m in study.mesh_keys if m[0] == element]
                 for k, mesh in enumerate(meshes):
                     runs = study.select(key, q, mesh)
-                    data += [[scene, model, *mesh, r["dt"], r["value"], r["spread"]]
-                             for r in runs]
+                    data += [[scene, model, *mesh, r["dt"], r["value"], r["spread"]] for r in runs]
                     if runs:
-                        ax.errorbar([r["dt"] for r in runs], [r["value"] for r in runs],
-                                    yerr=[2 * r["spread"] for r in runs],
-                                    color=sp.COLORS[element], marker=sp.MARKERS[k % 6], ms=4,
-                                    lw=0.9, capsize=1.5, label=sp.mesh_name(mesh))
+                        ax.errorbar(
+                            [r["dt"] for r in runs],
+                            [r["value"] for r in runs],
+                            yerr=[2 * r["spread"] for r in runs],
+                            color=sp.COLORS[element],
+                            marker=sp.MARKERS[k % 6],
+                            ms=4,
+                            lw=0.9,
+                            capsize=1.5,
+                            label=sp.mesh_name(mesh),
+                        )
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.invert_xaxis()
@@ -252,11 +290,15 @@ def contact_loss_plot(study, out):
             ax.set_title(sp.SCENE_TITLES.get(key, key), fontsize=8)
             ax.grid(True, which="major", alpha=0.3)
             ax.legend(fontsize=6, ncol=2)
-    fig.suptitle("Energy removed at the obstacles per forcing period against Δt (bars: 2σ)",
-                 fontsize=9)
+    fig.suptitle(
+        "Energy removed at the obstacles per forcing period against Δt (bars: 2σ)", fontsize=9
+    )
     save(fig, out / "damping_contact_loss.png", dpi=100)
-    pages.figure_data(out / "damping_contact_loss.png", ["scene", "model", "element", "nx", "ny",
-                                                         "dt", "value", "spread"], data)
+    pages.figure_data(
+        out / "damping_contact_loss.png",
+        ["scene", "model", "element", "nx", "ny", "dt", "value", "spread"],
+        data,
+    )
 
 
 def signed(x):
@@ -267,15 +309,24 @@ def signed(x):
 def threshold_table(study):
     """The Δt series behind the start-up warning's threshold: ζ_hf, the mean energy (and its
     change from the series' smallest Δt), impacts per period and the RMS corner."""
-    lines = ["| damping | Δt (s) | ζ_hf | mean energy.total (J) | against the smallest Δt | "
-             "impacts per period | RMS corner (mm) |", "|---|---|---|---|---|---|---|"]
+    lines = [
+        "| damping | Δt (s) | ζ_hf | mean energy.total (J) | against the smallest Δt | "
+        "impacts per period | RMS corner (mm) |",
+        "|---|---|---|---|---|---|---|",
+    ]
     scene, mesh = THRESHOLD_AT
     for model in THRESHOLD_MODELS:
         key = f"{scene}/{model}"
 
         def series(q):
-            return sorted((r for r in study.all_rows if r["scene"] == key and r["mesh"] == mesh
-                           and r["quantity"] == q), key=lambda r: -r["dt"])
+            return sorted(
+                (
+                    r
+                    for r in study.all_rows
+                    if r["scene"] == key and r["mesh"] == mesh and r["quantity"] == q
+                ),
+                key=lambda r: -r["dt"],
+            )
 
         energy = series("mean_energy_J")
         impacts = {r["dt"]: r for r in series("impacts_per_period")}
@@ -286,19 +337,25 @@ def threshold_table(study):
                 f"| {MODEL_TITLES[model] if k == 0 else ''} | {r['dt']:g} | {r['zeta_hf']:.3g} | "
                 f"{sp.with_spread('mean_energy_J', r)} | {change} % | "
                 f"{sp.with_spread('impacts_per_period', impacts[r['dt']])} | "
-                f"{sp.with_spread('rms_corner_m', corner[r['dt']])} |")
+                f"{sp.with_spread('rms_corner_m', corner[r['dt']])} |"
+            )
     return lines
 
 
 def finer_table(study):
     """β at 1e-6 s on meshes finer than the reference's: each value and its difference from the
     reference, Argyris 14 × 10."""
-    lines = ["| scene | quantity | " + " | ".join(sp.mesh_name(m) for m in FINER_MESHES) + " |",
-             "|---|---|" + "---|" * len(FINER_MESHES)]
+    lines = [
+        "| scene | quantity | " + " | ".join(sp.mesh_name(m) for m in FINER_MESHES) + " |",
+        "|---|---|" + "---|" * len(FINER_MESHES),
+    ]
     for scene in SCENES:
         for q in QUANTITIES[:4]:
-            at = {r["mesh"]: r for r in study.all_rows if r["scene"] == f"{scene}/beta"
-                  and r["quantity"] == q and r["dt"] == 1e-6}
+            at = {
+                r["mesh"]: r
+                for r in study.all_rows
+                if r["scene"] == f"{scene}/beta" and r["quantity"] == q and r["dt"] == 1e-6
+            }
             ref = at.get(FINEST)
             cells = []
             for m in FINER_MESHES:
@@ -310,8 +367,11 @@ def finer_table(study):
                 else:
                     change = 100 * (r["value"] / ref["value"] - 1)
                     cells.append(f"{sp.number(sp.shown(q, r['value']), 5)} ({signed(change)} %)")
-            lines.append(f"| {SCENE_SHORT[scene]} | {sp.md_name(q)}{sp.unit(q)} | "
-                         + " | ".join(cells) + " |")
+            lines.append(
+                f"| {SCENE_SHORT[scene]} | {sp.md_name(q)}{sp.unit(q)} | "
+                + " | ".join(cells)
+                + " |"
+            )
     return lines
 
 
@@ -329,12 +389,23 @@ def tables(study):
 
 def plots(study, out):
     for q in QUANTITIES:
-        panels = [s for m in MODELS for s in (f"{sc}/{m}" for sc in SCENES) if s in study.scenes
-                  and study.select(s, q, FINEST)]
+        panels = [
+            s
+            for m in MODELS
+            for s in (f"{sc}/{m}" for sc in SCENES)
+            if s in study.scenes and study.select(s, q, FINEST)
+        ]
         if panels:
             # 14 panels: a lower resolution keeps each file near 0.5 MB, still legible.
-            sp.work_precision(study, out, panels, [q] * len(panels), f"damping_wp_{q}.png",
-                              f"Work-precision per damping model: {sp.md_name(q)}", dpi=75)
+            sp.work_precision(
+                study,
+                out,
+                panels,
+                [q] * len(panels),
+                f"damping_wp_{q}.png",
+                f"Work-precision per damping model: {sp.md_name(q)}",
+                dpi=75,
+            )
     contact_loss_plot(study, out)
 
 

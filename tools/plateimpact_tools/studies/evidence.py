@@ -119,14 +119,18 @@ def judge_ladder(ladder: list[Run], ratio, tolerance: float) -> Ladder:
 
 def judge_setting(runs: list[Run], run: Run, tolerance: float = TOLERANCE) -> Setting:
     """The rule at the setting of `run` (module docs), from the element's `runs`."""
-    same_mesh = sorted((r for r in runs if r.mesh == run.mesh and r.dt >= run.dt),
-                       key=lambda r: -r.dt)
-    same_dt = sorted((r for r in runs if r.dt == run.dt and r.cells <= run.cells),
-                     key=lambda r: r.cells)
-    dt_ladder = (judge_ladder(same_mesh[-3:], lambda a, b: a.dt / b.dt, tolerance)
-                 if len(same_mesh) >= 3 else None)
-    mesh_ladder = (judge_ladder(same_dt[-3:], cell_ratio, tolerance)
-                   if len(same_dt) >= 3 else None)
+    same_mesh = sorted(
+        (r for r in runs if r.mesh == run.mesh and r.dt >= run.dt), key=lambda r: -r.dt
+    )
+    same_dt = sorted(
+        (r for r in runs if r.dt == run.dt and r.cells <= run.cells), key=lambda r: r.cells
+    )
+    dt_ladder = (
+        judge_ladder(same_mesh[-3:], lambda a, b: a.dt / b.dt, tolerance)
+        if len(same_mesh) >= 3
+        else None
+    )
+    mesh_ladder = judge_ladder(same_dt[-3:], cell_ratio, tolerance) if len(same_dt) >= 3 else None
     scale = tolerance * abs(run.value)
     whys = []
     if dt_ladder is None:
@@ -137,8 +141,11 @@ def judge_setting(runs: list[Run], run: Run, tolerance: float = TOLERANCE) -> Se
         whys.append(f"fewer than three meshes at {run.dt:g} s")
     elif not mesh_ladder.judgement.accepted:
         whys.append(f"mesh {ladder_text(mesh_ladder, 'mesh')}: {mesh_ladder.judgement.why}")
-    bound = sum(ladder.judgement.bound for ladder in (dt_ladder, mesh_ladder) if ladder) \
-        if dt_ladder and mesh_ladder else math.inf
+    bound = (
+        sum(ladder.judgement.bound for ladder in (dt_ladder, mesh_ladder) if ladder)
+        if dt_ladder and mesh_ladder
+        else math.inf
+    )
     if not whys and bound > scale:
         whys.append("the Δt and mesh bounds together exceed the tolerance")
     return Setting(run, dt_ladder, mesh_ladder, not whys, bound, "; ".join(whys))
@@ -171,8 +178,10 @@ def judge(runs: list[Run], tolerance: float = TOLERANCE) -> dict[str, Verdict]:
     if len(converged) == 2:
         a, f = converged
         if abs(a.value - f.value) > a.bound + f.bound:
-            why = (f"the elements disagree: {a.value:.6g} ± {a.bound:.2g} against "
-                   f"{f.value:.6g} ± {f.bound:.2g}")
+            why = (
+                f"the elements disagree: {a.value:.6g} ± {a.bound:.2g} against "
+                f"{f.value:.6g} ± {f.bound:.2g}"
+            )
             verdicts["both"] = Verdict("both", False, None, why)
             return verdicts
     if converged:
@@ -190,12 +199,31 @@ def mesh_name(mesh: tuple[str, int, int]) -> str:
 
 def ladder_text(ladder: Ladder, kind: str) -> str:
     if kind == "dt":
-        return f"{mesh_name(ladder.runs[0].mesh)} " + ", ".join(f"{r.dt:g}" for r in ladder.runs) + " s"
+        return (
+            f"{mesh_name(ladder.runs[0].mesh)} "
+            + ", ".join(f"{r.dt:g}" for r in ladder.runs)
+            + " s"
+        )
     return ", ".join(f"{r.nx}×{r.ny}" for r in ladder.runs) + f" at {ladder.runs[0].dt:g} s"
 
 
-HEADER = ["scene", "damping", "quantity", "element", "verdict", "value", "bound", "bound_pct",
-          "mesh", "dt", "dt_ladder", "dt_bound", "mesh_ladder", "mesh_bound", "why"]
+HEADER = [
+    "scene",
+    "damping",
+    "quantity",
+    "element",
+    "verdict",
+    "value",
+    "bound",
+    "bound_pct",
+    "mesh",
+    "dt",
+    "dt_ladder",
+    "dt_bound",
+    "mesh_ladder",
+    "mesh_bound",
+    "why",
+]
 
 
 def rows(key: tuple[str, str, str], verdicts: dict[str, Verdict]) -> list[list[str]]:
@@ -211,13 +239,17 @@ def rows(key: tuple[str, str, str], verdicts: dict[str, Verdict]) -> list[list[s
         else:
             value = s.run.value
             pct = 100 * s.bound / abs(value) if math.isfinite(s.bound) and value else math.inf
-            cells += [f"{value:.10g}", f"{s.bound:.4g}", f"{pct:.4g}",
-                      f"{s.run.element}:{s.run.nx}x{s.run.ny}", f"{s.run.dt:g}",
-                      " ".join(f"{r.dt:g}" for r in s.dt_ladder.runs) if s.dt_ladder else "",
-                      f"{s.dt_ladder.judgement.bound:.4g}" if s.dt_ladder else "",
-                      " ".join(f"{r.nx}x{r.ny}" for r in s.mesh_ladder.runs) if s.mesh_ladder
-                      else "",
-                      f"{s.mesh_ladder.judgement.bound:.4g}" if s.mesh_ladder else ""]
+            cells += [
+                f"{value:.10g}",
+                f"{s.bound:.4g}",
+                f"{pct:.4g}",
+                f"{s.run.element}:{s.run.nx}x{s.run.ny}",
+                f"{s.run.dt:g}",
+                " ".join(f"{r.dt:g}" for r in s.dt_ladder.runs) if s.dt_ladder else "",
+                f"{s.dt_ladder.judgement.bound:.4g}" if s.dt_ladder else "",
+                " ".join(f"{r.nx}x{r.ny}" for r in s.mesh_ladder.runs) if s.mesh_ladder else "",
+                f"{s.mesh_ladder.judgement.bound:.4g}" if s.mesh_ladder else "",
+            ]
         out.append(cells + [why])
     return out
 
@@ -231,19 +263,43 @@ def write(path, judged: dict[tuple[str, str, str], dict[str, Verdict]]) -> None:
             writer.writerows(rows(key, verdicts))
 
 
-LADDER_HEADER = ["scene", "damping", "quantity", "mesh", "dt", "verdict", "bound", "dt_ladder",
-                 "dt_verdict", "dt_bound", "dt_order", "dt_why", "mesh_ladder", "mesh_verdict",
-                 "mesh_bound", "mesh_order", "mesh_why"]
+LADDER_HEADER = [
+    "scene",
+    "damping",
+    "quantity",
+    "mesh",
+    "dt",
+    "verdict",
+    "bound",
+    "dt_ladder",
+    "dt_verdict",
+    "dt_bound",
+    "dt_order",
+    "dt_why",
+    "mesh_ladder",
+    "mesh_verdict",
+    "mesh_bound",
+    "mesh_order",
+    "mesh_why",
+]
 
 
 def ladder_cells(ladder: Ladder | None, kind: str) -> list[str]:
     if ladder is None:
         return ["", "none", "", "", "fewer than three"]
     j = ladder.judgement
-    settings = (" ".join(f"{r.dt:g}" for r in ladder.runs) if kind == "dt"
-                else " ".join(f"{r.nx}x{r.ny}" for r in ladder.runs))
-    return [settings, "accepted" if j.accepted else "refused", f"{j.bound:.4g}",
-            f"{j.order:.3g}" if j.order is not None else "", j.why]
+    settings = (
+        " ".join(f"{r.dt:g}" for r in ladder.runs)
+        if kind == "dt"
+        else " ".join(f"{r.nx}x{r.ny}" for r in ladder.runs)
+    )
+    return [
+        settings,
+        "accepted" if j.accepted else "refused",
+        f"{j.bound:.4g}",
+        f"{j.order:.3g}" if j.order is not None else "",
+        j.why,
+    ]
 
 
 def write_ladders(path, study: dict[tuple[str, str, str], list[Run]]) -> None:
@@ -255,10 +311,17 @@ def write_ladders(path, study: dict[tuple[str, str, str], list[Run]]) -> None:
         writer.writerow(LADDER_HEADER)
         for key, runs in study.items():
             for element in ELEMENTS:
-                for s in sorted(judge_settings(runs, element),
-                                key=lambda s: (s.run.cells, -s.run.dt)):
-                    writer.writerow([*key, f"{s.run.element}:{s.run.nx}x{s.run.ny}",
-                                     f"{s.run.dt:g}",
-                                     "converged" if s.accepted else "not converged",
-                                     f"{s.bound:.4g}", *ladder_cells(s.dt_ladder, "dt"),
-                                     *ladder_cells(s.mesh_ladder, "mesh")])
+                for s in sorted(
+                    judge_settings(runs, element), key=lambda s: (s.run.cells, -s.run.dt)
+                ):
+                    writer.writerow(
+                        [
+                            *key,
+                            f"{s.run.element}:{s.run.nx}x{s.run.ny}",
+                            f"{s.run.dt:g}",
+                            "converged" if s.accepted else "not converged",
+                            f"{s.bound:.4g}",
+                            *ladder_cells(s.dt_ladder, "dt"),
+                            *ladder_cells(s.mesh_ladder, "mesh"),
+                        ]
+                    )

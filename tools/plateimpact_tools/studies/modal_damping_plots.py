@@ -45,8 +45,10 @@ QUANTITIES = {
     "modal_share_above_10khz": ("share of the modal energy above 10 kHz", "%", 100.0),
 }
 TIME_AVERAGES = ["mean_energy_J", "rms_corner_m", "mean_abs_base_force_N", "rms_base_force_N"]
-BEGIN = ("<!-- generated: modal-damping (python -m plateimpact_tools.studies.modal_damping_plots; "
-         "do not edit) -->")
+BEGIN = (
+    "<!-- generated: modal-damping (python -m plateimpact_tools.studies.modal_damping_plots; "
+    "do not edit) -->"
+)
 END = "<!-- end generated: modal-damping -->"
 
 
@@ -65,9 +67,20 @@ def load(out):
     rows = read(out / "modal_damping.csv")
     table = defaultdict(lambda: defaultdict(list))
     for r in rows:
-        for k in ("modal_ratio", "dt", "omega_max_dt", "value", "spread", "cpu_s", "step_us",
-                  "window_spread", "correlation_spread", "replica_spread", "tau_periods",
-                  "set_up_cpu_s"):
+        for k in (
+            "modal_ratio",
+            "dt",
+            "omega_max_dt",
+            "value",
+            "spread",
+            "cpu_s",
+            "step_us",
+            "window_spread",
+            "correlation_spread",
+            "replica_spread",
+            "tau_periods",
+            "set_up_cpu_s",
+        ):
             r[k] = float(r[k])
         for k in ("nx", "ny", "free_dofs", "periods", "window_periods", "windows", "replicas"):
             r[k] = int(r[k])
@@ -94,15 +107,20 @@ def element_meshes(by_mesh, element):
 
 def evidence_runs(by_mesh):
     """The runs of one (scene, ratio, quantity) as the rule reads them."""
-    return [evidence.Run(r["element"], r["nx"], r["ny"], r["dt"], r["value"], r["spread"])
-            for runs in by_mesh.values() for r in runs]
+    return [
+        evidence.Run(r["element"], r["nx"], r["ny"], r["dt"], r["value"], r["spread"])
+        for runs in by_mesh.values()
+        for r in runs
+    ]
 
 
 def study_runs(table):
     """The runs of every (scene, ratio, quantity) of the study, in the CSV's order, as the rule
     reads them."""
-    return {(scene, f"{zeta:g}", quantity): evidence_runs(by_mesh)
-            for (scene, zeta, quantity), by_mesh in table.items()}
+    return {
+        (scene, f"{zeta:g}", quantity): evidence_runs(by_mesh)
+        for (scene, zeta, quantity), by_mesh in table.items()
+    }
 
 
 def verdict_text(verdicts, quantity):
@@ -111,10 +129,15 @@ def verdict_text(verdicts, quantity):
     _, unit, scale = QUANTITIES[quantity]
     if both.accepted:
         s = both.setting
-        return (f"converged: **{s.run.value * scale:.4g} ± {s.bound * scale:.2g}** "
-                f"({evidence.mesh_name(s.run.mesh)}, {s.run.dt:g} s)")
-    parts = [f"{'Argyris' if e == 'argyris' else 'FVS'}: {verdicts[e].why}"
-             for e in evidence.ELEMENTS if verdicts[e].setting]
+        return (
+            f"converged: **{s.run.value * scale:.4g} ± {s.bound * scale:.2g}** "
+            f"({evidence.mesh_name(s.run.mesh)}, {s.run.dt:g} s)"
+        )
+    parts = [
+        f"{'Argyris' if e == 'argyris' else 'FVS'}: {verdicts[e].why}"
+        for e in evidence.ELEMENTS
+        if verdicts[e].setting
+    ]
     if "disagree" in both.why:
         parts = [both.why]
     return "not converged: " + "; ".join(parts)
@@ -127,20 +150,28 @@ def convergence_tables(table, verdicts, scenes, zetas):
         for zeta in zetas:
             if (scene, zeta, "mean_energy_J") not in table:
                 continue
-            meshes = sorted(table[(scene, zeta, "mean_energy_J")],
-                            key=lambda m: (m[0], table[(scene, zeta, "mean_energy_J")][m][0]["free_dofs"]))
-            lines += [f"#### ζ = {zeta:g}", "",
-                      "Each mesh at its smallest Δt (value ± spread); the finding is the rule's "
-                      f"(`evidence`, tolerance {evidence.TOLERANCE:.0%}): converged with its value "
-                      "± the sum of its Δt and mesh bounds, or what failed.", "",
-                      "| quantity | " + " | ".join(mesh_name(m) for m in meshes) + " | finding |",
-                      "|---|" + "---|" * (len(meshes) + 1)]
+            meshes = sorted(
+                table[(scene, zeta, "mean_energy_J")],
+                key=lambda m: (m[0], table[(scene, zeta, "mean_energy_J")][m][0]["free_dofs"]),
+            )
+            lines += [
+                f"#### ζ = {zeta:g}",
+                "",
+                "Each mesh at its smallest Δt (value ± spread); the finding is the rule's "
+                f"(`evidence`, tolerance {evidence.TOLERANCE:.0%}): converged with its value "
+                "± the sum of its Δt and mesh bounds, or what failed.",
+                "",
+                "| quantity | " + " | ".join(mesh_name(m) for m in meshes) + " | finding |",
+                "|---|" + "---|" * (len(meshes) + 1),
+            ]
             for quantity in QUANTITIES:
                 by_mesh = table.get((scene, zeta, quantity))
                 if not by_mesh:
                     continue
-                cells = [f"{with_spread(by_mesh[m][-1], quantity)} ({by_mesh[m][-1]['dt']:g} s)"
-                         for m in meshes]
+                cells = [
+                    f"{with_spread(by_mesh[m][-1], quantity)} ({by_mesh[m][-1]['dt']:g} s)"
+                    for m in meshes
+                ]
                 text = verdict_text(verdicts[(scene, f"{zeta:g}", quantity)], quantity)
                 name, unit, _ = QUANTITIES[quantity]
                 label = f"{name} ({unit})" if unit else name
@@ -154,26 +185,34 @@ def dt_judgement(runs):
     with fewer than three Δt."""
     if len(runs) < 3:
         return None
-    ladder = [evidence.Run(r["element"], r["nx"], r["ny"], r["dt"], r["value"], r["spread"])
-              for r in runs[-3:]]
+    ladder = [
+        evidence.Run(r["element"], r["nx"], r["ny"], r["dt"], r["value"], r["spread"])
+        for r in runs[-3:]
+    ]
     return evidence.judge_ladder(ladder, lambda a, b: a.dt / b.dt, evidence.TOLERANCE).judgement
 
 
 def dt_table(table, scenes, zetas):
     """Each mesh's mean energy and RMS base force at every Δt it ran, and the rule on its three
     smallest Δt."""
-    dts = sorted({r["dt"] for by_mesh in table.values() for runs in by_mesh.values() for r in runs},
-                 reverse=True)
+    dts = sorted(
+        {r["dt"] for by_mesh in table.values() for runs in by_mesh.values() for r in runs},
+        reverse=True,
+    )
     lines = []
     for quantity in ("mean_energy_J", "rms_base_force_N"):
         name, unit, scale = QUANTITIES[quantity]
-        lines += [f"{name} ({unit}) at each Δt; *rule on Δt*: the rule (tolerance "
-                  f"{evidence.TOLERANCE:.0%}) on the mesh's three smallest Δt, accepted with its "
-                  "bound or what failed; order: the order the rule observed there (– where the "
-                  "last change is within its noise or the changes alternate).", "",
-                  "| scene | ζ | mesh | " + " | ".join(f"{dt:g} s" for dt in dts)
-                  + " | rule on Δt | order |",
-                  "|---|---|---|" + "---|" * (len(dts) + 2)]
+        lines += [
+            f"{name} ({unit}) at each Δt; *rule on Δt*: the rule (tolerance "
+            f"{evidence.TOLERANCE:.0%}) on the mesh's three smallest Δt, accepted with its "
+            "bound or what failed; order: the order the rule observed there (– where the "
+            "last change is within its noise or the changes alternate).",
+            "",
+            "| scene | ζ | mesh | "
+            + " | ".join(f"{dt:g} s" for dt in dts)
+            + " | rule on Δt | order |",
+            "|---|---|---|" + "---|" * (len(dts) + 2),
+        ]
         for scene in scenes:
             for zeta in zetas:
                 by_mesh = table.get((scene, zeta, quantity), {})
@@ -186,11 +225,17 @@ def dt_table(table, scenes, zetas):
                         if j is None:
                             where, order = "fewer than three Δt", "–"
                         else:
-                            where = (f"accepted, ± {100 * j.bound / abs(runs[-1]['value']):.2g} %"
-                                     if j.accepted else j.why)
+                            where = (
+                                f"accepted, ± {100 * j.bound / abs(runs[-1]['value']):.2g} %"
+                                if j.accepted
+                                else j.why
+                            )
                             order = f"{j.order:.1f}" if j.order is not None else "–"
-                        lines.append(f"| {scene} | {zeta:g} | {mesh_name(mesh)} | "
-                                     + " | ".join(cells) + f" | {where} | {order} |")
+                        lines.append(
+                            f"| {scene} | {zeta:g} | {mesh_name(mesh)} | "
+                            + " | ".join(cells)
+                            + f" | {where} | {order} |"
+                        )
         lines.append("")
     return lines
 
@@ -204,29 +249,44 @@ def correlation_table(rows):
             taus[(r["scene"], r["modal_ratio"], r["quantity"])].append(r["tau_periods"])
             if r["replicas"] >= 2 and r["window_spread"] > 0:
                 spreads[(r["scene"], r["modal_ratio"], r["quantity"])].append(
-                    (r["window_spread"], r["correlation_spread"], r["replica_spread"], r["replicas"]))
-    lines = ["| scene | ζ | quantity | τ median (periods) | τ largest | window (periods) | "
-             "replica / window spread |", "|---|---|---|---|---|---|---|"]
+                    (
+                        r["window_spread"],
+                        r["correlation_spread"],
+                        r["replica_spread"],
+                        r["replicas"],
+                    )
+                )
+    lines = [
+        "| scene | ζ | quantity | τ median (periods) | τ largest | window (periods) | "
+        "replica / window spread |",
+        "|---|---|---|---|---|---|---|",
+    ]
     windows = {(r["scene"]): r["window_periods"] for r in rows}
     for key in sorted(taus):
         scene, zeta, quantity = key
         values = sorted(taus[key])
         median = values[len(values) // 2]
         ratio = ", ".join(f"{rep / win:.2f} ({n})" for win, _, rep, n in spreads.get(key, []))
-        lines.append(f"| {scene} | {zeta:g} | {md(QUANTITIES[quantity][0])} | {median:.2f} | "
-                     f"{values[-1]:.2f} | {windows[scene]} | {ratio or '–'} |")
+        lines.append(
+            f"| {scene} | {zeta:g} | {md(QUANTITIES[quantity][0])} | {median:.2f} | "
+            f"{values[-1]:.2f} | {windows[scene]} | {ratio or '–'} |"
+        )
     return lines
 
 
 def band_table(bands, scenes, zetas):
-    lines = ["| scene | ζ | mesh | Δt (s) | share above 1 kHz | above 10 kHz | above 100 kHz |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        "| scene | ζ | mesh | Δt (s) | share above 1 kHz | above 10 kHz | above 100 kHz |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for scene in scenes:
         for zeta in zetas:
             for mesh, dt, by_band in finest_bands(bands, scene, zeta):
                 share = lambda low: sum(s for (lo, s) in by_band if lo >= low)  # noqa: E731
-                lines.append(f"| {scene} | {zeta:g} | {mesh_name(mesh)} | {dt:g} | "
-                             f"{share(1e3):.1%} | {share(1e4):.2%} | {share(1e5):.3%} |")
+                lines.append(
+                    f"| {scene} | {zeta:g} | {mesh_name(mesh)} | {dt:g} | "
+                    f"{share(1e3):.1%} | {share(1e4):.2%} | {share(1e5):.3%} |"
+                )
     return lines
 
 
@@ -246,19 +306,30 @@ def finest_bands(bands, scene, zeta):
 
 def plot_dt(table, scenes, zetas, out):
     quantities = TIME_AVERAGES + ["impacts_per_period", "modal_share_above_1khz"]
-    fig, axes = pyplot().subplots(len(quantities), len(scenes) * len(zetas),
-                             figsize=(3.2 * len(scenes) * len(zetas), 2.4 * len(quantities)),
-                             squeeze=False)
+    fig, axes = pyplot().subplots(
+        len(quantities),
+        len(scenes) * len(zetas),
+        figsize=(3.2 * len(scenes) * len(zetas), 2.4 * len(quantities)),
+        squeeze=False,
+    )
     for row, quantity in enumerate(quantities):
         name, unit, scale = QUANTITIES[quantity]
         for col, (scene, zeta) in enumerate((s, z) for s in scenes for z in zetas):
             ax = axes[row][col]
             by_mesh = table.get((scene, zeta, quantity), {})
-            for mesh, runs in sorted(by_mesh.items(), key=lambda kv: (kv[0][0], kv[1][0]["free_dofs"])):
-                ax.errorbar([r["omega_max_dt"] for r in runs], [r["value"] * scale for r in runs],
-                            yerr=[2 * r["spread"] * scale for r in runs],
-                            marker="o" if mesh[0] == "argyris" else "s", ms=3, capsize=2,
-                            ls="-" if mesh[0] == "argyris" else "--", label=mesh_name(mesh))
+            for mesh, runs in sorted(
+                by_mesh.items(), key=lambda kv: (kv[0][0], kv[1][0]["free_dofs"])
+            ):
+                ax.errorbar(
+                    [r["omega_max_dt"] for r in runs],
+                    [r["value"] * scale for r in runs],
+                    yerr=[2 * r["spread"] * scale for r in runs],
+                    marker="o" if mesh[0] == "argyris" else "s",
+                    ms=3,
+                    capsize=2,
+                    ls="-" if mesh[0] == "argyris" else "--",
+                    label=mesh_name(mesh),
+                )
             ax.set_xscale("log")
             if row == 0:
                 ax.set_title(f"{scene}, ζ = {zeta:g}", fontsize=8)
@@ -274,8 +345,12 @@ def plot_dt(table, scenes, zetas, out):
 
 def plot_mesh(table, scenes, zetas, out):
     quantities = TIME_AVERAGES + ["modal_share_above_1khz"]
-    fig, axes = pyplot().subplots(len(scenes), len(quantities), figsize=(3.4 * len(quantities),
-                                                                   2.8 * len(scenes)), squeeze=False)
+    fig, axes = pyplot().subplots(
+        len(scenes),
+        len(quantities),
+        figsize=(3.4 * len(quantities), 2.8 * len(scenes)),
+        squeeze=False,
+    )
     for row, scene in enumerate(scenes):
         for col, quantity in enumerate(quantities):
             name, unit, scale = QUANTITIES[quantity]
@@ -286,10 +361,16 @@ def plot_mesh(table, scenes, zetas, out):
                     meshes = element_meshes(by_mesh, element)
                     runs = [by_mesh[m][-1] for m in meshes]
                     if runs:
-                        ax.errorbar([r["free_dofs"] for r in runs], [r["value"] * scale for r in runs],
-                                    yerr=[2 * r["spread"] * scale for r in runs], marker=marker,
-                                    ms=3, capsize=2, ls="-" if element == "argyris" else "--",
-                                    label=f"ζ = {zeta:g}, {element}")
+                        ax.errorbar(
+                            [r["free_dofs"] for r in runs],
+                            [r["value"] * scale for r in runs],
+                            yerr=[2 * r["spread"] * scale for r in runs],
+                            marker=marker,
+                            ms=3,
+                            capsize=2,
+                            ls="-" if element == "argyris" else "--",
+                            label=f"ζ = {zeta:g}, {element}",
+                        )
             ax.set_xscale("log")
             ax.set_title(f"{scene}: {name}", fontsize=8)
             ax.set_xlabel("free dofs", fontsize=7)
@@ -302,16 +383,21 @@ def plot_mesh(table, scenes, zetas, out):
 
 
 def plot_bands(bands, scenes, zetas, out):
-    fig, axes = pyplot().subplots(len(zetas), len(scenes), figsize=(4.2 * len(scenes), 3.0 * len(zetas)),
-                             squeeze=False)
+    fig, axes = pyplot().subplots(
+        len(zetas), len(scenes), figsize=(4.2 * len(scenes), 3.0 * len(zetas)), squeeze=False
+    )
     for row, zeta in enumerate(zetas):
         for col, scene in enumerate(scenes):
             ax = axes[row][col]
             for mesh, dt, by_band in finest_bands(bands, scene, zeta):
                 lows = [max(lo, 30.0) for lo, _ in by_band]
-                ax.step(lows, [max(s, 1e-9) for _, s in by_band], where="post",
-                        ls="-" if mesh[0] == "argyris" else "--",
-                        label=f"{mesh_name(mesh)}, {dt:g} s")
+                ax.step(
+                    lows,
+                    [max(s, 1e-9) for _, s in by_band],
+                    where="post",
+                    ls="-" if mesh[0] == "argyris" else "--",
+                    label=f"{mesh_name(mesh)}, {dt:g} s",
+                )
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_ylim(1e-7, 1.5)
@@ -343,18 +429,29 @@ def plot_correlation(out, transient_s):
     for r in read(path):
         if r["replica"] != "0":
             continue
-        key = (r["scene"], float(r["modal_ratio"]), f"{mesh_name((r['element'], r['nx'], r['ny']))}",
-               float(r["dt"]))
+        key = (
+            r["scene"],
+            float(r["modal_ratio"]),
+            f"{mesh_name((r['element'], r['nx'], r['ny']))}",
+            float(r["dt"]),
+        )
         if int(r["period"]) >= transient_s * frequency.get(r["scene"], 1.0):
             for q in ("mean_energy_J", "rms_corner_m", "mean_abs_base_force_N"):
                 series[key][q].append(float(r[q]))
     quantities = ["mean_energy_J", "rms_corner_m", "mean_abs_base_force_N"]
-    fig, axes = pyplot().subplots(1, len(quantities), figsize=(4.2 * len(quantities), 3.0), squeeze=False)
+    fig, axes = pyplot().subplots(
+        1, len(quantities), figsize=(4.2 * len(quantities), 3.0), squeeze=False
+    )
     for col, q in enumerate(quantities):
         ax = axes[0][col]
         for key, by_q in sorted(series.items()):
             rho = autocorrelation(by_q[q], 20)
-            ax.plot(range(len(rho)), rho, marker=".", label=f"{key[0]}, ζ = {key[1]:g}, {key[2]}, {key[3]:g} s")
+            ax.plot(
+                range(len(rho)),
+                rho,
+                marker=".",
+                label=f"{key[0]}, ζ = {key[1]:g}, {key[2]}, {key[3]:g} s",
+            )
         ax.axhline(0, color="k", lw=0.5)
         ax.set_title(f"per-period {QUANTITIES[q][0]}", fontsize=8)
         ax.set_xlabel("lag (forcing periods)", fontsize=7)
@@ -376,16 +473,23 @@ def cost_table(rows):
             set_up[r["mesh"]].append(r["set_up_cpu_s"])
             dofs[r["mesh"]] = r["free_dofs"]
     dts = sorted({dt for _, dt in steps}, reverse=True)
-    lines = ["| mesh | free dofs | set-up (CPU s) | " + " | ".join(f"µs/step at {dt:g} s" for dt in dts)
-             + " |", "|---|---|---|" + "---|" * len(dts)]
+    lines = [
+        "| mesh | free dofs | set-up (CPU s) | "
+        + " | ".join(f"µs/step at {dt:g} s" for dt in dts)
+        + " |",
+        "|---|---|---|" + "---|" * len(dts),
+    ]
     for mesh in sorted(set_up, key=lambda m: (m[0], dofs[m])):
         cells = []
         for dt in dts:
             values = sorted(steps.get((mesh, dt), []))
             cells.append(f"{values[len(values) // 2]:.2f}" if values else "")
         s = sorted(set_up[mesh])
-        lines.append(f"| {mesh_name(mesh)} | {dofs[mesh]} | {s[len(s) // 2]:.2f} | "
-                     + " | ".join(cells) + " |")
+        lines.append(
+            f"| {mesh_name(mesh)} | {dofs[mesh]} | {s[len(s) // 2]:.2f} | "
+            + " | ".join(cells)
+            + " |"
+        )
     return lines
 
 
@@ -411,20 +515,34 @@ def main():
     runs = sum(1 for r in rows if r["quantity"] == "mean_energy_J")
     # The meta file's commit: one, or those of the processes that ran, separated by ';'.
     commits = ", ".join(c.strip()[:12] for c in meta.get("commit", "?").split(";"))
-    lines = [BEGIN, "",
-             f"Runs: {runs}, {cpu:.0f} CPU s in all (commit {commits}); "
-             f"left out for cost: {meta.get('left_out') or 'none'}.", "",
-             "## Convergence, scene by scene", ""]
+    lines = [
+        BEGIN,
+        "",
+        f"Runs: {runs}, {cpu:.0f} CPU s in all (commit {commits}); "
+        f"left out for cost: {meta.get('left_out') or 'none'}.",
+        "",
+        "## Convergence, scene by scene",
+        "",
+    ]
     lines += convergence_tables(table, verdicts, scenes, zetas)
     lines += ["## Settling in Δt", ""] + dt_table(table, scenes, zetas)
     lines += ["## Correlation times and windows", ""] + correlation_table(rows) + [""]
-    lines += ["## Where the energy sits", "",
-              "Share of the modal energy (Σ over modes of ½q̇² + ½ω²q², averaged over the steady "
-              "state) above fixed natural frequencies, each mesh at its smallest Δt.", ""]
+    lines += [
+        "## Where the energy sits",
+        "",
+        "Share of the modal energy (Σ over modes of ½q̇² + ½ω²q², averaged over the steady "
+        "state) above fixed natural frequencies, each mesh at its smallest Δt.",
+        "",
+    ]
     lines += band_table(bands, scenes, zetas) + [""]
-    lines += ["![modal energy per band](modal_damping_bands.png)", "",
-              "![time averages against ω_max·Δt](modal_damping_dt.png)", "",
-              "![each mesh at its smallest Δt](modal_damping_mesh.png)", ""]
+    lines += [
+        "![modal energy per band](modal_damping_bands.png)",
+        "",
+        "![time averages against ω_max·Δt](modal_damping_dt.png)",
+        "",
+        "![each mesh at its smallest Δt](modal_damping_mesh.png)",
+        "",
+    ]
     if correlation:
         lines += ["![autocorrelation of the per-period values](modal_damping_correlation.png)", ""]
     lines += ["## Cost", ""] + cost_table(rows) + ["", END]

@@ -22,8 +22,8 @@ import re
 from pathlib import Path
 
 BLOCK = re.compile(
-    r"<!-- generated: (?P<name>[\w-]+) \([^)]*\) -->\n.*?<!-- end generated: (?P=name) -->",
-    re.S)
+    r"<!-- generated: (?P<name>[\w-]+) \([^)]*\) -->\n.*?<!-- end generated: (?P=name) -->", re.S
+)
 
 
 class PageError(Exception):
@@ -38,14 +38,18 @@ def fill(page, tables, module):
     without_table = [n for n in names if n not in tables]
     without_block = [n for n in tables if n not in names]
     if without_table or without_block or len(set(names)) != len(names):
-        raise PageError(f"{page}: blocks without a table {without_table}, tables without a "
-                        f"block {without_block}, blocks {names}")
+        raise PageError(
+            f"{page}: blocks without a table {without_table}, tables without a "
+            f"block {without_block}, blocks {names}"
+        )
 
     def block(match):
         name = match.group("name")
         body = "\n".join(tables[name])
-        return (f"<!-- generated: {name} ({module}; do not edit) -->\n{body}\n"
-                f"<!-- end generated: {name} -->")
+        return (
+            f"<!-- generated: {name} ({module}; do not edit) -->\n{body}\n"
+            f"<!-- end generated: {name} -->"
+        )
 
     page.write_text(BLOCK.sub(block, text))
 
