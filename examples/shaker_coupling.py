@@ -340,7 +340,7 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
                 plan = interface.plan(*start.ahead(lead), start.ahead(lead + h)[0], h)
                 guess, slope = reaction(plan)
                 last = None  # (guess, change) of the previous iterate
-                for iteration in range(1, max_iterations + 1):
+                for iteration in range(1, max_iterations + 1):  # noqa: B007 (read after the loop)
                     shaker, plan = shaken(guess, slope)
                     if coupling == "mean":
                         break

@@ -3,6 +3,7 @@ around fmpy's FMU2Slave and FMU3Slave."""
 
 import os
 import subprocess
+from ctypes import byref
 
 import pytest
 from fmpy import extract, read_model_description
@@ -16,7 +17,6 @@ from fmpy.fmi2 import (
 )
 from fmpy.fmi3 import FMU3Slave
 from fmpy.logging import addLoggerProxy
-from ctypes import byref
 
 from plateimpact_tools import ROOT, SCENES  # noqa: F401 (the tests' names)
 
@@ -31,6 +31,24 @@ def pytest_configure(config):
     config.addinivalue_line(
         "markers", "slow: minutes of FMU runs; the full suite runs it, -m 'not slow' skips it"
     )
+    config.addinivalue_line(
+        "markers",
+        "fmu: needs a packaged FMU (set by the suite on every test that requests one); "
+        "scripts/check runs the others, -m 'not fmu'",
+    )
+
+
+# The fixtures that package or read an FMU: a test that requests one, directly or through another
+# fixture, is marked `fmu`.
+FMU_FIXTURES = {"fmu_path", "fmu3_path"}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Marks every test that needs a packaged FMU `fmu`, so that the tools' own tests (the rule,
+    the study tables, the window statistics) run alone, with `-m 'not fmu'`, in scripts/check."""
+    for item in items:
+        if FMU_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.fmu)
 
 
 @pytest.fixture(scope="session")

@@ -27,7 +27,8 @@ import pytest
 
 from conftest import ROOT
 from plateimpact_tools import scene_values, windows
-from plateimpact_tools.converge import cost, runs as converge_runs
+from plateimpact_tools.converge import cost
+from plateimpact_tools.converge import runs as converge_runs
 from plateimpact_tools.converge import study as converge
 
 TOLERANCE = 0.01

@@ -13,8 +13,8 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi3 import fmi3FMUState
 from fmpy.validation import validate_fmu
 
-from conftest import SCENES, scene_start_values
 import fmu_state
+from conftest import SCENES, scene_start_values
 
 SCENE_NAMES = sorted(p.stem for p in SCENES.glob("*.json"))
 STEP = 1e-3

@@ -27,7 +27,7 @@ def refused(plate, call, *words):
 def values(plate):
     """Every variable the host can read now, as exact bits."""
     out = {}
-    for name, v in plate.variables.items():
+    for name in plate.variables:
         try:
             out[name] = plate.get(name)
         except FMICallException:

@@ -46,7 +46,7 @@ def content_token(path):
     digest = bytearray(hashlib.sha256(text.encode()).digest()[:16])
     digest[6] = digest[6] & 0x0F | 0x80
     digest[8] = digest[8] & 0x3F | 0x80
-    return "{%s}" % uuid.UUID(bytes=bytes(digest))
+    return f"{{{uuid.UUID(bytes=bytes(digest))}}}"
 
 
 def test_the_tokens_are_derived_from_the_descriptions(model_description, model_description3):

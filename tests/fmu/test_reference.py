@@ -22,9 +22,8 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
-from conftest import SCENES, scene_start_values
-
 import reference.regenerate as regenerate
+from conftest import SCENES, scene_start_values
 
 # 1e-7 m, 1e-5 of the 0.01 m gap: 100 x the largest solver-to-solver difference (8.8e-10 m).
 DISPLACEMENT_ATOL = 1e-7

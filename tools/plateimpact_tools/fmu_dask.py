@@ -19,8 +19,9 @@ import tempfile
 import time
 import zipfile
 
-_EXTRACTED = {}
-_SHIPPED = set()  # the ids of the clients whose workers have the package (`ship_package`)
+# digest of an FMU -> the directory it was unpacked to, once per process.
+_EXTRACTED: dict[str, str] = {}
+_SHIPPED: set[str] = set()  # the ids of the clients whose workers have the package (`ship_package`)
 
 
 def fmu_dir(fmu_blob, digest):

@@ -140,9 +140,9 @@ def input_drive(start, amplitude, frequency, t):
     )
 
 
-_CALLBACKS = []
+_CALLBACKS: list[object] = []
 # instance name -> [(category, message)] of the warnings and errors that instance logged.
-_LOGGED = {}
+_LOGGED: dict[str, list[tuple[str, str]]] = {}
 
 
 def stderr_callbacks():

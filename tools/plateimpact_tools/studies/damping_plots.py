@@ -318,7 +318,7 @@ def threshold_table(study):
     for model in THRESHOLD_MODELS:
         key = f"{scene}/{model}"
 
-        def series(q):
+        def series(q, key=key):
             return sorted(
                 (
                     r

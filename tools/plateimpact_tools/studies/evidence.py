@@ -31,6 +31,8 @@ and mark.
 import csv
 import dataclasses
 import math
+from collections.abc import Callable
+from pathlib import Path
 
 from plateimpact_tools import rule
 
@@ -110,7 +112,8 @@ def cell_ratio(coarse: Run, fine: Run) -> float:
     return math.sqrt(fine.cells / coarse.cells)
 
 
-def judge_ladder(ladder: list[Run], ratio, tolerance: float) -> Ladder:
+def judge_ladder(ladder: list[Run], ratio: Callable[[Run, Run], float], tolerance: float) -> Ladder:
+    """The rule on three settings (coarse to fine), `ratio` the refinement ratio of a pair."""
     values = [r.value for r in ladder]
     spreads = [r.spread for r in ladder]
     ratios = (ratio(ladder[0], ladder[1]), ratio(ladder[1], ladder[2]))
@@ -142,7 +145,7 @@ def judge_setting(runs: list[Run], run: Run, tolerance: float = TOLERANCE) -> Se
     elif not mesh_ladder.judgement.accepted:
         whys.append(f"mesh {ladder_text(mesh_ladder, 'mesh')}: {mesh_ladder.judgement.why}")
     bound = (
-        sum(ladder.judgement.bound for ladder in (dt_ladder, mesh_ladder) if ladder)
+        dt_ladder.judgement.bound + mesh_ladder.judgement.bound
         if dt_ladder and mesh_ladder
         else math.inf
     )
@@ -254,7 +257,7 @@ def rows(key: tuple[str, str, str], verdicts: dict[str, Verdict]) -> list[list[s
     return out
 
 
-def write(path, judged: dict[tuple[str, str, str], dict[str, Verdict]]) -> None:
+def write(path: str | Path, judged: dict[tuple[str, str, str], dict[str, Verdict]]) -> None:
     """Writes every verdict of a study to the CSV `path` (HEADER), in the order of `judged`."""
     with open(path, "w", newline="") as f:
         writer = csv.writer(f)
@@ -302,7 +305,7 @@ def ladder_cells(ladder: Ladder | None, kind: str) -> list[str]:
     ]
 
 
-def write_ladders(path, study: dict[tuple[str, str, str], list[Run]]) -> None:
+def write_ladders(path: str | Path, study: dict[tuple[str, str, str], list[Run]]) -> None:
     """Writes the rule at every setting of a study (LADDER_HEADER): both ladders, their
     judgements, bounds, observed orders and reasons; `study` maps (scene, damping, quantity) to
     its runs."""

@@ -20,7 +20,6 @@ bounds.
 """
 
 import csv
-import math
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -282,7 +281,10 @@ def band_table(bands, scenes, zetas):
     for scene in scenes:
         for zeta in zetas:
             for mesh, dt, by_band in finest_bands(bands, scene, zeta):
-                share = lambda low: sum(s for (lo, s) in by_band if lo >= low)  # noqa: E731
+
+                def share(low, by_band=by_band):
+                    return sum(s for (lo, s) in by_band if lo >= low)
+
                 lines.append(
                     f"| {scene} | {zeta:g} | {mesh_name(mesh)} | {dt:g} | "
                     f"{share(1e3):.1%} | {share(1e4):.2%} | {share(1e5):.3%} |"

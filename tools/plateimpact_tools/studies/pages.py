@@ -19,7 +19,9 @@ Beside each figure `figure_data` writes the data it shows, as the CSV of the fig
 
 import csv
 import re
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any
 
 BLOCK = re.compile(
     r"<!-- generated: (?P<name>[\w-]+) \([^)]*\) -->\n.*?<!-- end generated: (?P=name) -->", re.S
@@ -30,7 +32,7 @@ class PageError(Exception):
     """The generated blocks of a page and the tables of its study disagree."""
 
 
-def fill(page, tables, module):
+def fill(page: Path, tables: dict[str, list[str]], module: str) -> None:
     """Replaces the content of each generated block of `page` (a Path) by `tables[name]` (lines
     of Markdown), naming `module` as its source."""
     text = page.read_text()
@@ -43,7 +45,7 @@ def fill(page, tables, module):
             f"block {without_block}, blocks {names}"
         )
 
-    def block(match):
+    def block(match: re.Match[str]) -> str:
         name = match.group("name")
         body = "\n".join(tables[name])
         return (
@@ -54,7 +56,7 @@ def fill(page, tables, module):
     page.write_text(BLOCK.sub(block, text))
 
 
-def figure_data(figure, header, rows):
+def figure_data(figure: str | Path, header: list[str], rows: Iterable[Sequence[Any]]) -> None:
     """Writes `rows` (under `header`) to the CSV beside `figure` (a Path to the .png)."""
     with open(Path(figure).with_suffix(".csv"), "w", newline="") as f:
         writer = csv.writer(f)
