@@ -357,9 +357,9 @@ fn check(claim: &Claim, marked: &[(usize, usize, String)]) -> Option<String> {
             let s = stated[0].0;
             (values[0] > s).then(|| format!("states at most {s}, the data give {:.6}", values[0]))
         }),
-        Kind::Holds => expect(0).or_else(|| {
-            (values[0] != 1.0).then(|| "the data say it is false".to_string())
-        }),
+        Kind::Holds => {
+            expect(0).or_else(|| (values[0] != 1.0).then(|| "the data say it is false".to_string()))
+        }
         Kind::Range => expect(2).or_else(|| {
             let (lo, hi) = super::data::span(values);
             let ((a, ha), (b, hb)) = (stated[0], stated[1]);

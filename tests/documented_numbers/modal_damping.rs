@@ -335,11 +335,25 @@ fn findings(c: &mut Claims, runs: &Table) {
     let element = mesh.split(':').next().expect("element:NXxNY");
     let mut resolved = true;
     for ladder_dt in one.text("dt_ladder").split(' ') {
-        let r = run(runs, E, "forced-60hz", 0.01, &mesh, ladder_dt.parse().expect("Δt"));
+        let r = run(
+            runs,
+            E,
+            "forced-60hz",
+            0.01,
+            &mesh,
+            ladder_dt.parse().expect("Δt"),
+        );
         resolved &= r.text("tau_resolved") == "true";
     }
     for cells in one.text("mesh_ladder").split(' ') {
-        let r = run(runs, E, "forced-60hz", 0.01, &format!("{element}:{cells}"), dt);
+        let r = run(
+            runs,
+            E,
+            "forced-60hz",
+            0.01,
+            &format!("{element}:{cells}"),
+            dt,
+        );
         resolved &= r.text("tau_resolved") == "true";
     }
     c.holds(
@@ -403,8 +417,7 @@ fn verdict_claims(c: &mut Claims) {
         at_35.iter().all(|r| {
             !AVERAGES.contains(&r.text("quantity"))
                 || ["none", "refused"].contains(&r.text("dt_verdict"))
-                    && (r.text("dt_verdict") == "none"
-                        || r.text("dt_ladder").starts_with("0.0001"))
+                    && (r.text("dt_verdict") == "none" || r.text("dt_ladder").starts_with("0.0001"))
         }),
     );
     c.holds(
@@ -922,7 +935,8 @@ fn ratios(c: &mut Claims, runs: &Table) {
     );
     c.values("by −{4.4} % and −{4.7} % at ζ = 2 %", &[-e[2], -e[3]]);
     let at_one = [FINEST, "fvs:28x20"].map(|m| {
-        100.0 * (value(runs, E, s, 0.01, m, 1e-6, 1.0) / value(runs, E, s, 0.01, m, 1e-5, 1.0) - 1.0)
+        100.0
+            * (value(runs, E, s, 0.01, m, 1e-6, 1.0) / value(runs, E, s, 0.01, m, 1e-5, 1.0) - 1.0)
     });
     c.values("at ζ = 1 % it moved by {0.3} % and {0.6} %", &at_one);
     let largest_at_one = at_one[0].abs().max(at_one[1].abs());
@@ -1018,7 +1032,13 @@ fn sixty_ratios(c: &mut Claims, runs: &Table) {
                 };
                 Some((m.to_string(), 100.0 * (at(1e-6)? / at(1e-5)? - 1.0)))
             })
-            .fold((String::new(), f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a })
+            .fold((String::new(), f64::NEG_INFINITY), |a, b| {
+                if b.1 > a.1 {
+                    b
+                } else {
+                    a
+                }
+            })
     };
     let (half_mesh, half) = largest(0.005);
     let (two_mesh, two) = largest(0.02);
@@ -1027,7 +1047,10 @@ fn sixty_ratios(c: &mut Claims, runs: &Table) {
         (FINEST, "argyris:10x7"),
         "the page names the meshes whose RMS base force rose most at 60 Hz"
     );
-    c.value("the largest rise at ζ = 0.5 % is Argyris 28 × 20's ({5.6} %)", half);
+    c.value(
+        "the largest rise at ζ = 0.5 % is Argyris 28 × 20's ({5.6} %)",
+        half,
+    );
     c.value("at ζ = 2 % Argyris 10 × 7's ({3.8} %)", two);
     let at = |m: &str, dt: f64| value(runs, RMS_FORCE, s, 0.005, m, dt, 1.0);
     c.value(
@@ -1086,7 +1109,10 @@ fn third(c: &mut Claims, runs: &Table) {
     let corner = at(CORNER, 1.0, 1e-6);
     c.upper(
         "the two elements lie within {0.5} % on the energy and the corner",
-        100.0 * (energy[1] / energy[0] - 1.0).abs().max((corner[1] / corner[0] - 1.0).abs()),
+        100.0
+            * (energy[1] / energy[0] - 1.0)
+                .abs()
+                .max((corner[1] / corner[0] - 1.0).abs()),
     );
     c.holds(
         "With two meshes per element there is no mesh ladder, and the rule gives no verdict on \
@@ -1356,7 +1382,11 @@ pub fn warning_numbers() -> Vec<String> {
     let mut stated = Vec::new();
     let verdicts = verdicts_table();
     let one = verdict(&verdicts, E, "forced-60hz", 0.01, "both");
-    assert_eq!(one.text("verdict"), "converged", "the warning names one converged average");
+    assert_eq!(
+        one.text("verdict"),
+        "converged",
+        "the warning names one converged average"
+    );
     stated.push(format!(
         "the mean energy ({:.2} J within {:.2} J, Argyris 28 x 20 at solver.time_step = 1e-6 s)",
         one.number("value"),
@@ -1404,7 +1434,14 @@ pub fn warning_numbers() -> Vec<String> {
         up(largest_dt_change(&runs, "argyris:10x7"), 1)
     ));
     let energies = [
-        at_finest(&runs, E, s, 0.01, &[ARGYRIS.as_slice(), &[FINE, FINEST]].concat(), 1.0),
+        at_finest(
+            &runs,
+            E,
+            s,
+            0.01,
+            &[ARGYRIS.as_slice(), &[FINE, FINEST]].concat(),
+            1.0,
+        ),
         at_finest(&runs, E, s, 0.01, &FVS, 1.0),
     ]
     .concat();

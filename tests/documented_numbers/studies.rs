@@ -57,7 +57,10 @@ pub fn claims() -> Claims {
         "One tolerance, 1 %, for every verdict and mark",
         "(\"converged when both ladders pass at 1 %\")",
     ]);
-    c.given(&["at 1e-6 s", "at ζ = 1 %; at ζ = 0.5 and 2 % no mesh ran three Δt"]);
+    c.given(&[
+        "at 1e-6 s",
+        "at ζ = 1 %; at ζ = 0.5 and 2 % no mesh ran three Δt",
+    ]);
     accuracy(&mut c);
     restitution(&mut c);
     statistics(&mut c);

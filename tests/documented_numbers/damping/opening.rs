@@ -41,7 +41,10 @@ pub(super) fn answer(c: &mut Claims, d: &Study) {
         "within {0.3} % of the reference (Argyris 14 × 10 at 1e-6 s) on",
         h.fvs_1e5,
     );
-    c.values("in {4.5} s (35 Hz) and {5.0} s (60 Hz) per run", &h.walls_fvs);
+    c.values(
+        "in {4.5} s (35 Hz) and {5.0} s (60 Hz) per run",
+        &h.walls_fvs,
+    );
     c.value(
         "Argyris 10 × 7 within {1.04} % (the 35 Hz RMS",
         h.argyris_1e5,

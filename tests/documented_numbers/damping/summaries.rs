@@ -108,7 +108,13 @@ pub fn readme(c: &mut Claims) {
 pub fn limits_doc(c: &mut Claims) {
     let study = Study::load();
     let d = &study;
-    c.given(&["ζ₁ = 1 %", "at Δt = 1e-4 s", "at 1e-7 s", "at 5e-8 s", "35 Hz"]);
+    c.given(&[
+        "ζ₁ = 1 %",
+        "at Δt = 1e-4 s",
+        "at 1e-7 s",
+        "at 5e-8 s",
+        "35 Hz",
+    ]);
     let q = "contact_loss_per_period_J";
     let s35 = "forced-35hz";
     let loss = |mesh: &str, dt: f64| d.value(s35, "beta", q, mesh, dt);
