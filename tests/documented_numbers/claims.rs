@@ -61,6 +61,31 @@ struct Claim {
     values: Vec<f64>,
 }
 
+/// How the numbers of a prose are covered: by a claim checked against data, as an input or a
+/// definition's parameter, as a side of a mesh name; `total` counts every number.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tally {
+    pub claimed: usize,
+    pub inputs: usize,
+    pub meshes: usize,
+    pub total: usize,
+}
+
+/// The numbers of `markdown`'s prose (all of it, generated blocks and code aside): how many are
+/// sides of mesh names, and how many in all.
+pub fn unchecked_tally(markdown: &str) -> Tally {
+    let prose = Prose::of(markdown, &[], &[], None);
+    let tokens = prose.numbers();
+    let meshes = (0..tokens.len())
+        .filter(|&k| is_mesh(&prose.text, &tokens, k))
+        .count();
+    Tally {
+        meshes,
+        total: tokens.len(),
+        ..Tally::default()
+    }
+}
+
 /// The claims of one document (see the module documentation).
 pub struct Claims {
     pub document: &'static str,
@@ -208,6 +233,16 @@ impl Claims {
     /// Every failure of the document: claims that do not hold or are not in the prose, given
     /// texts that are not, and numbers of the prose that nothing covers.
     pub fn failures(&self) -> Vec<String> {
+        self.analyse().0
+    }
+
+    /// How the numbers of the document's checked prose are covered.
+    pub fn tally(&self) -> Tally {
+        self.analyse().1
+    }
+
+    /// The failures and the tally (see [`Claims::failures`], [`Tally`]).
+    fn analyse(&self) -> (Vec<String>, Tally) {
         let path = super::root().join(self.document);
         let markdown =
             std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -215,6 +250,8 @@ impl Claims {
         let prose = Prose::of(&markdown, &[], &blocks, self.only.map(|o| o.0));
         let mut failures = Vec::new();
         let mut covered: Vec<Token> = Vec::new();
+        // The numbers of claims, apart from those of inputs and definitions.
+        let mut claimed: Vec<Token> = Vec::new();
         // Whole quotes of claims and definitions: where verdict words may stand.
         let mut stated: Vec<Token> = Vec::new();
         for claim in &self.claims {
@@ -230,7 +267,7 @@ impl Claims {
             }));
             for at in &found {
                 for (start, end, _) in &marked {
-                    covered.push(Token {
+                    claimed.push(Token {
                         start: at + start,
                         end: at + end,
                     });
@@ -288,18 +325,27 @@ impl Claims {
             }
         }
         let tokens = prose.numbers();
+        let mut tally = Tally {
+            total: tokens.len(),
+            ..Tally::default()
+        };
         for (k, token) in tokens.iter().enumerate() {
             let inside = |c: &Token| c.start <= token.start && token.end <= c.end;
-            if covered.iter().any(inside) || is_mesh(&prose.text, &tokens, k) {
-                continue;
+            if claimed.iter().any(inside) {
+                tally.claimed += 1;
+            } else if covered.iter().any(inside) {
+                tally.inputs += 1;
+            } else if is_mesh(&prose.text, &tokens, k) {
+                tally.meshes += 1;
+            } else {
+                failures.push(format!(
+                    "line {}: number without a claim: {}",
+                    prose.line(token.start),
+                    prose.context(*token)
+                ));
             }
-            failures.push(format!(
-                "line {}: number without a claim: {}",
-                prose.line(token.start),
-                prose.context(*token)
-            ));
         }
-        failures
+        (failures, tally)
     }
 
     /// Fails with every failure of the document, one per line.

@@ -28,7 +28,7 @@ fn root() -> &'static Path {
 type Document = (&'static str, fn() -> claims::Claims);
 
 /// The documents whose prose is checked.
-const DOCUMENTS: [Document; 7] = [
+const DOCUMENTS: [Document; 8] = [
     ("README.md", readme::claims),
     ("docs/studies.md", studies::claims),
     ("docs/accuracy/README.md", accuracy::claims),
@@ -36,7 +36,77 @@ const DOCUMENTS: [Document; 7] = [
     ("docs/accuracy/damping.md", damping::claims),
     ("docs/accuracy/modal_damping.md", modal_damping::claims),
     ("docs/limits.md", limits::claims),
+    ("docs/testing.md", share_claims),
 ];
+
+/// Every Markdown page of the documentation: README.md and docs/**/*.md.
+fn pages() -> Vec<String> {
+    fn walk(dir: &Path, out: &mut Vec<String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                let relative = path.strip_prefix(root()).unwrap();
+                out.push(relative.to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+    let mut out = vec!["README.md".to_string()];
+    walk(&root().join("docs"), &mut out);
+    out.sort();
+    out
+}
+
+/// How the numbers of the whole documentation's prose are covered: those of the checked parts
+/// of the checked documents as their claims cover them, every other number as unchecked (in
+/// `total`, not in `claimed` or `inputs`).
+fn documentation_tally() -> claims::Tally {
+    let mut sum = claims::Tally::default();
+    for page in pages() {
+        let markdown = std::fs::read_to_string(root().join(&page)).unwrap();
+        let whole = claims::unchecked_tally(&markdown);
+        let checked = DOCUMENTS
+            .iter()
+            .filter(|(name, _)| *name == page && *name != "docs/testing.md")
+            .map(|(_, claims)| claims().tally())
+            .next()
+            .unwrap_or_default();
+        sum.claimed += checked.claimed;
+        sum.inputs += checked.inputs;
+        sum.meshes += whole.meshes;
+        sum.total += whole.total;
+    }
+    sum
+}
+
+/// docs/testing.md's section on how much of the documentation is checked.
+fn share_claims() -> claims::Claims {
+    let mut c = claims::Claims::new("docs/testing.md");
+    c.only_section(
+        "How much of the documentation is checked",
+        "the rest of the page is the tiers, their scripts and their measured times (one \
+         measurement each, on the machine and load it names)",
+    );
+    let t = documentation_tally();
+    let pct = |n: usize| 100.0 * n as f64 / t.total as f64;
+    let unchecked = t.total - t.claimed - t.inputs - t.meshes;
+    c.values("Of the {7 512} numbers in the prose", &[t.total as f64]);
+    c.values(
+        "{739} ({10} %) are checked",
+        &[t.claimed as f64, pct(t.claimed)],
+    );
+    c.values(
+        "{892} ({12} %) are inputs",
+        &[t.inputs as f64, pct(t.inputs)],
+    );
+    c.values("{946} are sides of mesh names", &[t.meshes as f64]);
+    c.values(
+        "the other {4 935} ({66} %)",
+        &[unchecked as f64, pct(unchecked)],
+    );
+    c
+}
 
 /// Checks the claims of `document`.
 fn check(document: &str) {
@@ -98,6 +168,11 @@ fn damping() {
 #[test]
 fn modal_damping() {
     check("docs/accuracy/modal_damping.md");
+}
+
+#[test]
+fn testing_share() {
+    check("docs/testing.md");
 }
 
 #[test]

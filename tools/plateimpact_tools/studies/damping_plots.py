@@ -4,31 +4,30 @@ Usage: python -m plateimpact_tools.studies.damping_plots DIR [--quick] [--tables
 DIR/damping.csv, damping_meshes.csv, damping_meta.csv (`cargo run --release --example statistics --
 --study damping`, which runs this); writes DIR/damping_wp_<quantity>.png and
 DIR/damping_contact_loss.png, beside each the CSV of the data it shows, and the generated tables
-of DIR/damping.md (the page is hand-written; `pages.fill`).
+of DIR/damping.md (the page is hand-written; `pages.fill`), and the rule's verdicts
+(`evidence`): DIR/damping_verdicts.csv (per scene, model, quantity and element) and
+DIR/damping_ladders.csv (the rule at every setting).
 
 The model comparison (tables, work-precision plots, contact loss) reads the runs of the plan's
 grid and contact-loss parts on the grid's meshes; the finer-reference and threshold parts have a
 table each.
 
-Each (scene, damping model) pair is a scene of `statistics_plots`, whose definitions this
-reuses (agree, reference, error, reaches, settled in Δt). In addition:
-- the reference (Argyris 14 × 10 at its smallest Δt) is *converged to a tolerance* when the
-  Argyris 14 × 10 run at the next larger Δt and the FVS 14 × 10 run at the reference's Δt are both
-  within it (error + uncertainty ≤ tolerance): converged in Δt and, by an independent element, in
-  the mesh;
-- a quantity has *settled in Δt to a tolerance* on a mesh from the largest Δt from which every
-  run on that mesh is within the tolerance of its smallest-Δt run;
-- a quantity has *settled in the mesh to a tolerance* from the coarsest Argyris mesh from which
-  every finer Argyris mesh, at the smallest Δt they all ran, is within the tolerance of the
-  14 × 10 run at that Δt.
+Each (scene, damping model) pair is a scene of `statistics_plots`, whose work-precision plots
+this reuses. Every verdict is the rule's (`plateimpact_tools.studies.evidence`: a setting is
+converged when its Δt ladder and its mesh ladder pass at 1 %, its ± the sum of their bounds),
+on every run of the (scene, model), whichever part of the plan ran it. The comparison tables
+give each quantity's best-resolved run (Argyris 14 × 10 at its smallest Δt), the same mesh at the
+next larger Δt and FVS 14 × 10 at the same Δt against it, the rule's verdict, and where it is
+converged the cheapest run within the tolerance of the converged value (its distance plus its
+2σ plus the converged value's bound).
 """
 
-import math
 import sys
+from collections import defaultdict
 from pathlib import Path
 
 from plateimpact_tools.plotting import pyplot, save
-from plateimpact_tools.studies import pages
+from plateimpact_tools.studies import evidence, pages
 from plateimpact_tools.studies import statistics_plots as sp
 
 plt = pyplot()
@@ -121,10 +120,6 @@ def load(out):
     return study
 
 
-def within(study, r, tolerance):
-    return r is not None and sum(study.error(r)) <= tolerance
-
-
 def reference_status(study, scene, quantity):
     """(Argyris 14 × 10 at the next larger Δt, FVS 14 × 10 at the reference's Δt): the runs that
     test the reference, each None when missing."""
@@ -135,45 +130,42 @@ def reference_status(study, scene, quantity):
     return coarser_dt, (fvs[0] if fvs else None)
 
 
-def dt_settled(study, scene, quantity, mesh, tolerance):
-    """The largest Δt from which every run on the mesh is within the tolerance of its
-    smallest-Δt run (error + uncertainty against it), or None."""
-    runs = study.select(scene, quantity, mesh)
-    last = runs[-1]
-    start = None
-    for r in reversed(runs[:-1]):
-        scale = abs(last["value"])
-        err = (
-            abs(r["value"] - last["value"]) + 2 * math.hypot(r["spread"], last["spread"])
-        ) / scale
-        if err > tolerance:
-            break
-        start = r
-    return start
-
-
-def mesh_settled(study, scene, quantity, tolerance):
-    """The coarsest Argyris mesh from which every finer one is within the tolerance of 14 × 10,
-    at the smallest Δt all ran, and that Δt; None when the finest alone."""
-    argyris = [m for m in study.mesh_keys if m[0] == "argyris"]
-    runs = {m: study.select(scene, quantity, m) for m in argyris}
-    if any(not r for r in runs.values()):
-        return None, None
-    dt = max(r[-1]["dt"] for r in runs.values())
-    at = {m: next(x for x in runs[m] if x["dt"] == dt) for m in argyris}
-    top = at[FINEST]
-    start = None
-    for m in reversed(argyris[:-1]):
-        r = at[m]
-        scale = abs(top["value"])
-        err = (
-            abs(r["value"] - top["value"]) / scale
-            + 2 * math.hypot(r["spread"], top["spread"]) / scale
+def study_runs(study):
+    """The runs of every (scene/model, quantity) as the rule reads them: every part of the plan."""
+    runs = defaultdict(list)
+    for r in study.all_rows:
+        runs[(r["scene"], r["quantity"])].append(
+            evidence.Run(r["element"], r["nx"], r["ny"], r["dt"], r["value"], r["spread"])
         )
-        if err > tolerance:
-            break
-        start = m
-    return start, dt
+    return runs
+
+
+def verdict_text(v, quantity):
+    """The rule's verdict on one quantity, as the tables print it."""
+    both = v["both"]
+    if both.accepted:
+        s = both.setting
+        value, bound = sp.shown(quantity, s.run.value), sp.shown(quantity, s.bound)
+        return (
+            f"converged: {sp.number(value, 5)} ± {sp.number(bound, 2)} "
+            f"({100 * bound / abs(value):.2g} %; {sp.mesh_name(s.run.mesh)}, {s.run.dt:g} s)"
+        )
+    return "not converged"
+
+
+def cheapest_within(study, key, quantity, v, tolerance=evidence.TOLERANCE):
+    """The cheapest run (wall time) within `tolerance` of the converged value: its distance plus
+    its 2σ plus the converged value's bound; None where the quantity is not converged."""
+    both = v["both"]
+    if not both.accepted:
+        return None
+    value, bound = both.value, both.bound
+    best = None
+    for r in study.select(key, quantity):
+        if abs(r["value"] - value) + 2 * r["spread"] + bound <= tolerance * abs(value):
+            if best is None or r["wall_s"] < best["wall_s"]:
+                best = r
+    return best
 
 
 def setting(r):
@@ -190,14 +182,13 @@ def rel(study, r, ref):
     return f"{sign}{e:.2%} ± {u:.2%}"
 
 
-def table(study, scene):
+def table(study, scene, verdicts):
     lines = [
         f"#### {SCENE_SHORT[scene]} (`{scene}`)",
         "",
-        "| damping | quantity | reference (Argyris 14 × 10) | same, next larger Δt | FVS 14 × 10 "
-        "| settled in Δt (1 %) on Argyris 14 × 10 from | settled in mesh (1 %) from | cheapest 1 % "
-        "| cheapest 5 % |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| damping | quantity | best resolved (Argyris 14 × 10) | same, next larger Δt | FVS 14 × 10 "
+        "| the rule (1 %) | cheapest within 1 % of the converged value |",
+        "|---|---|---|---|---|---|---|",
     ]
     for model in MODELS:
         key = f"{scene}/{model}"
@@ -208,21 +199,13 @@ def table(study, scene):
                 continue
             ref = study.reference(key, q)
             coarser, fvs = reference_status(study, key, q)
-            settled = dt_settled(study, key, q, FINEST, 0.01)
-            mesh_from, mesh_dt = mesh_settled(study, key, q, 0.01)
-            cheap = []
-            for tol in sp.TOLERANCES:
-                ok = within(study, coarser, tol) and within(study, fvs, tol)
-                cheap.append(
-                    setting(study.cheapest(key, q, tol)) if ok else "no reference to this tolerance"
-                )
+            v = verdicts[(key, q)]
+            cheap = cheapest_within(study, key, q, v)
             lines.append(
                 f"| {MODEL_TITLES[model]} | {sp.md_name(q)}{sp.unit(q)} "
                 f"| {sp.with_spread(q, ref)} at {ref['dt']:g} s | {rel(study, coarser, ref)} "
-                f"| {rel(study, fvs, ref)} "
-                f"| {'Δt = ' + format(settled['dt'], 'g') + ' s' if settled else 'no'} "
-                f"| {sp.mesh_name(mesh_from) + ' (Δt = ' + format(mesh_dt, 'g') + ' s)' if mesh_from else 'no'} "
-                f"| {cheap[0]} | {cheap[1]} |"
+                f"| {rel(study, fvs, ref)} | {verdict_text(v, q)} "
+                f"| {setting(cheap) if cheap else '–'} |"
             )
     return lines
 
@@ -375,11 +358,11 @@ def finer_table(study):
     return lines
 
 
-def tables(study):
+def tables(study, verdicts):
     """The generated tables of damping.md, by block name."""
     out = {}
     for scene in SCENES:
-        out[f"compare-{scene.removeprefix('forced-')}"] = table(study, scene)
+        out[f"compare-{scene.removeprefix('forced-')}"] = table(study, scene, verdicts)
     for model in ("beta", "rayleigh-5k"):
         out[f"contact-loss-{model}"] = contact_loss_table(study, model)
     out["threshold"] = threshold_table(study)
@@ -416,7 +399,16 @@ def main():
     study = load(out)
     if "--tables-only" not in sys.argv[2:]:
         plots(study, out)
-    pages.fill(out / "damping.md", tables(study), MODULE)
+    runs = study_runs(study)
+    verdicts = {key: evidence.judge(r) for key, r in runs.items()}
+    evidence.write(
+        out / "damping_verdicts.csv",
+        {(*key[0].split("/"), key[1]): v for key, v in verdicts.items()},
+    )
+    evidence.write_ladders(
+        out / "damping_ladders.csv", {(*key[0].split("/"), key[1]): r for key, r in runs.items()}
+    )
+    pages.fill(out / "damping.md", tables(study, verdicts), MODULE)
 
 
 if __name__ == "__main__":
