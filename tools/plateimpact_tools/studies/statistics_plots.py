@@ -13,8 +13,12 @@ Definitions used throughout (statistics.md repeats them):
 - the *error* of a run is |v − v_ref| / |v_ref|, and its *uncertainty* 2·√(s² + s_ref²) / |v_ref|;
 - a run *reaches* a tolerance when error + uncertainty ≤ tolerance for it and for every smaller Δt
   on the same mesh (so that a lucky crossing of the reference does not count);
-- a quantity has *settled in Δt* on a mesh from the largest Δt from which every run on that mesh
-  agrees with the mesh's smallest-Δt run (at least the two smallest Δt must agree).
+- a quantity *stays within its noise* on a mesh from the largest Δt from which every run on that
+  mesh agrees with the mesh's smallest-Δt run (at least the two smallest Δt must agree):
+  DIR/statistics_within_noise.csv lists that Δt per scene, quantity and mesh. It is no verdict of
+  convergence: with this study's spreads (σ up to 5 %) it is far weaker than the rule of evidence
+  (`plateimpact_tools.studies.evidence`, the rule of scripts/converge at 1 %), whose verdicts
+  DIR/statistics_verdicts.csv and statistics_ladders.csv hold.
 """
 
 import csv
@@ -23,7 +27,7 @@ import sys
 from pathlib import Path
 
 from plateimpact_tools.plotting import pyplot, save
-from plateimpact_tools.studies import pages
+from plateimpact_tools.studies import evidence, pages
 
 plt = pyplot()
 
@@ -125,7 +129,7 @@ class Study:
             2 * math.hypot(r["spread"], ref["spread"]) / scale,
         )
 
-    def settled(self, scene, quantity, mesh):
+    def within_noise(self, scene, quantity, mesh):
         """The run from which every smaller Δt on the mesh agrees with its smallest-Δt run."""
         runs = self.select(scene, quantity, mesh)
         last = runs[-1]
@@ -380,7 +384,7 @@ def settling_points(study, scenes, quantities):
         for q in quantities:
             for mesh in study.mesh_keys:
                 tried += 1
-                r = study.settled(scene, q, mesh)
+                r = study.within_noise(scene, q, mesh)
                 if r is not None:
                     found.append((omega[mesh], r))
     return found, tried
@@ -456,7 +460,7 @@ def settling_table(study):
     """Per scene and quantity: on how many meshes it settles in Δt, at which ω_max·Δt, and the
     exponent of Δt_settle ∝ ω_max^p."""
     lines = [
-        "| scene | quantity | settled on | ω_max·Δt at settling: min / median / max | p |",
+        "| scene | quantity | within its noise on | ω_max·Δt from which: min / median / max | p |",
         "|---|---|---|---|---|",
     ]
     for scene in study.scenes:
@@ -483,7 +487,7 @@ def settling_by_mesh_table(study):
             cells = []
             for mesh in study.mesh_keys:
                 runs_m = study.select(scene, q, mesh)
-                st = study.settled(scene, q, mesh)
+                st = study.within_noise(scene, q, mesh)
                 cells.append(
                     ("no" if st is None else f"{st['omega_max_dt']:.3g}")
                     + f" [{runs_m[-1]['omega_max_dt']:.2g}]"
@@ -585,13 +589,49 @@ def tables(study):
     }
 
 
+def write_evidence(study, out):
+    """The rule's verdicts (statistics_verdicts.csv, statistics_ladders.csv) and where every scene,
+    quantity and mesh stays within its noise (statistics_within_noise.csv: the Δt, empty where
+    even the two smallest disagree, and ω_max·Δt there)."""
+    runs = {}
+    for r in study.rows:
+        runs.setdefault((r["scene"], "", r["quantity"]), []).append(
+            evidence.Run(r["element"], r["nx"], r["ny"], r["dt"], r["value"], r["spread"])
+        )
+    evidence.write(
+        out / "statistics_verdicts.csv", {key: evidence.judge(r) for key, r in runs.items()}
+    )
+    evidence.write_ladders(out / "statistics_ladders.csv", runs)
+    with open(out / "statistics_within_noise.csv", "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(["scene", "quantity", "mesh", "within_noise_dt", "omega_max_dt"])
+        for scene in study.scenes:
+            for q in study.quantities(scene):
+                for mesh in study.mesh_keys:
+                    if not study.select(scene, q, mesh):
+                        continue
+                    r = study.within_noise(scene, q, mesh)
+                    name = f"{mesh[0]}:{mesh[1]}x{mesh[2]}"
+                    writer.writerow(
+                        [
+                            scene,
+                            q,
+                            name,
+                            f"{r['dt']:g}" if r else "",
+                            f"{r['omega_max_dt']:.6g}" if r else "",
+                        ]
+                    )
+
+
 def main():
-    """Plots (with their data) and the tables of DIR/statistics.md; `--tables-only` writes the
-    tables alone (the check that the committed tables follow from the committed CSVs)."""
+    """Plots (with their data), the rule's verdicts and the tables of DIR/statistics.md;
+    `--tables-only` writes the tables and verdicts alone (the check that the committed ones follow
+    from the committed CSVs)."""
     out = Path(sys.argv[1])
     study = Study(out)
     if "--tables-only" not in sys.argv[2:]:
         plots(study, out)
+    write_evidence(study, out)
     pages.fill(out / "statistics.md", tables(study), MODULE)
 
 
