@@ -33,10 +33,15 @@ pub struct Runs {
 impl Runs {
     /// The rows of the CSV at `path`; with a `damping` column, the scene is `scene/damping`.
     pub fn load(path: &str) -> Runs {
+        Runs::load_where(path, "")
+    }
+
+    /// The rows of the CSV at `path` that `selection` picks (`data::Table::select`).
+    pub fn load_where(path: &str, selection: &str) -> Runs {
         let t = table(path);
         let with_damping = t.has_column("damping");
         let rows = t
-            .select("")
+            .select(selection)
             .iter()
             .map(|r| Run {
                 scene: if with_damping {

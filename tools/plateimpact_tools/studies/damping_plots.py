@@ -153,6 +153,36 @@ def verdict_text(v, quantity):
     return "not converged"
 
 
+def verdicts_table(study, verdicts):
+    """The rule's verdict on every scene, model and quantity: converged with its value, bound and
+    setting, or what failed on each element."""
+    lines = [
+        "| scene | damping | quantity | the rule (1 %) |",
+        "|---|---|---|---|",
+    ]
+    for scene in SCENES:
+        for model in MODELS:
+            key = f"{scene}/{model}"
+            if key not in study.scenes:
+                continue
+            for q in QUANTITIES:
+                v = verdicts.get((key, q))
+                if v is None:
+                    continue
+                text = verdict_text(v, q)
+                if not v["both"].accepted:
+                    text += ": " + "; ".join(
+                        f"{'Argyris' if e == 'argyris' else 'FVS'}: {v[e].why}"
+                        for e in evidence.ELEMENTS
+                        if v[e].setting
+                    )
+                lines.append(
+                    f"| {SCENE_SHORT[scene]} | {MODEL_TITLES[model]} | "
+                    f"{sp.md_name(q)}{sp.unit(q)} | {text.replace('|', chr(92) + '|')} |"
+                )
+    return lines
+
+
 def cheapest_within(study, key, quantity, v, tolerance=evidence.TOLERANCE):
     """The cheapest run (wall time) within `tolerance` of the converged value: its distance plus
     its 2σ plus the converged value's bound; None where the quantity is not converged."""
@@ -366,6 +396,7 @@ def tables(study, verdicts):
     for model in ("beta", "rayleigh-5k"):
         out[f"contact-loss-{model}"] = contact_loss_table(study, model)
     out["threshold"] = threshold_table(study)
+    out["verdicts"] = verdicts_table(study, verdicts)
     out["finer-reference"] = finer_table(study)
     return out
 
