@@ -31,17 +31,29 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--fmu", default=str(ROOT / "target" / "fmu" / "PlateImpact.fmu"))
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--batches", type=int, default=200, help="batches of 1000 parameter reads")
     args = parser.parse_args()
     md = read_model_description(args.fmu)
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    reals = [v.valueReference for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
-    integers = [v.valueReference for v in md.modelVariables if v.causality == "output" and v.type == "Integer"]
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(args.fmu), modelIdentifier=md.coSimulation.modelIdentifier,
-                    instanceName="cost")
+    reals = [
+        v.valueReference for v in md.modelVariables if v.causality == "output" and v.type == "Real"
+    ]
+    integers = [
+        v.valueReference
+        for v in md.modelVariables
+        if v.causality == "output" and v.type == "Integer"
+    ]
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=extract(args.fmu),
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="cost",
+    )
     fmu.instantiate()
     fmu.setupExperiment(startTime=0.0)
     fmu.setReal([vr["base.amplitude"], vr["base.frequency"]], [0.009, 35.0])
@@ -93,22 +105,37 @@ def main():
         param_empty.append((c - b) / batch)
     fmu.terminate()
     fmu.freeInstance()
-    median = {name: 1e6 * statistics.median(x) for name, x in
-              [("doStep", step), ("one by one", one_by_one), ("2 reads", all_at_once), ("2 raw", raw), ("2 empty", empty)]}
-    labels = {"doStep": "doStep (1 ms, 10 internal steps)",
-              "one by one": f"{len(reals)} Real outputs, one fmpy getReal each",
-              "2 reads": "every output, fmpy getReal + getInteger", "2 raw": "every output, 2 raw ctypes calls",
-              "2 empty": "2 empty raw ctypes calls (call overhead)"}
+    median = {
+        name: 1e6 * statistics.median(x)
+        for name, x in [
+            ("doStep", step),
+            ("one by one", one_by_one),
+            ("2 reads", all_at_once),
+            ("2 raw", raw),
+            ("2 empty", empty),
+        ]
+    }
+    labels = {
+        "doStep": "doStep (1 ms, 10 internal steps)",
+        "one by one": f"{len(reals)} Real outputs, one fmpy getReal each",
+        "2 reads": "every output, fmpy getReal + getInteger",
+        "2 raw": "every output, 2 raw ctypes calls",
+        "2 empty": "2 empty raw ctypes calls (call overhead)",
+    }
     print(f"forced-35hz through fmpy, medians over {args.steps} communication steps:")
     for name, us in median.items():
         ratio = "" if name == "doStep" else f"  {100 * us / median['doStep']:5.1f} % of a step"
         print(f"  {labels[name]:42s} {us:7.2f} us{ratio}")
     own = median["2 raw"] - median["2 empty"]
     ratio = own / median["doStep"]
-    print(f"the FMU's own cost of reading every output: {own:.2f} us, {100 * ratio:.1f} % of a 1 ms step (target < 10 %)")
+    print(
+        f"the FMU's own cost of reading every output: {own:.2f} us, {100 * ratio:.1f} % of a 1 ms step (target < 10 %)"
+    )
     read, call = 1e6 * statistics.median(param), 1e6 * statistics.median(param_empty)
-    print(f"parameter read (plate.thickness, one raw fmi2GetReal per call), medians over {args.batches} batches "
-          f"of {batch} calls: {read:.2f} us per call, {call:.2f} us for the empty call, the FMU's own {read - call:.2f} us")
+    print(
+        f"parameter read (plate.thickness, one raw fmi2GetReal per call), medians over {args.batches} batches "
+        f"of {batch} calls: {read:.2f} us per call, {call:.2f} us for the empty call, the FMU's own {read - call:.2f} us"
+    )
     sys.exit(0 if ratio < 0.10 else 1)
 
 

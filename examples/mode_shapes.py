@@ -26,14 +26,30 @@ def render(data, out_path):
     frequencies = data["frequencies_hz"]
     fig = plt.figure(figsize=(10, 6.2))
     mesh = f"{data['element']} {data['nx']} × {data['ny']}"
-    sampling = (f"sampled at {data['refine']} points per cell side" if data["refine"] > 1
-                else "vertex values")
-    fig.suptitle(f"Lowest {len(shapes)} modes of the clamped plate ({mesh}, {sampling}); "
-                 "shapes scaled to max |φ| = 1", fontsize=11)
+    sampling = (
+        f"sampled at {data['refine']} points per cell side"
+        if data["refine"] > 1
+        else "vertex values"
+    )
+    fig.suptitle(
+        f"Lowest {len(shapes)} modes of the clamped plate ({mesh}, {sampling}); "
+        "shapes scaled to max |φ| = 1",
+        fontsize=11,
+    )
     for k, (phi, f) in enumerate(zip(shapes, frequencies)):
         ax = fig.add_subplot(2, 3, k + 1, projection="3d")
-        ax.plot_surface(X, Y, phi, cmap="coolwarm", vmin=-1, vmax=1, rstride=1, cstride=1,
-                        linewidth=0, antialiased=True)
+        ax.plot_surface(
+            X,
+            Y,
+            phi,
+            cmap="coolwarm",
+            vmin=-1,
+            vmax=1,
+            rstride=1,
+            cstride=1,
+            linewidth=0,
+            antialiased=True,
+        )
         ax.plot([0, 0], [y[0], y[-1]], [0, 0], color="black", linewidth=2.5)
         ax.set_box_aspect((x[-1], y[-1], 0.35 * x[-1]))
         ax.set(zlim=(-1, 1), xticks=[0, x[-1]], yticks=[0, y[-1]], zticks=[-1, 0, 1])

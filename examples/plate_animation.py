@@ -88,8 +88,10 @@ def stop_artists(stop, z_lo, z_hi):
         return [ring], [[(x, y, level), (x, y, end)]]
     (x0, y0), (x1, y1) = 1e3 * np.array(shape["min"]), 1e3 * np.array(shape["max"])
     corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
-    return ([[(x, y, level) for x, y in corners]],
-            [[(x, y, level), (x, y, end)] for x, y in corners])
+    return (
+        [[(x, y, level) for x, y in corners]],
+        [[(x, y, level), (x, y, end)] for x, y in corners],
+    )
 
 
 def clamp_blocks(field, outline, xy, z, x_lo):
@@ -105,14 +107,17 @@ def clamp_blocks(field, outline, xy, z, x_lo):
         if x0 == x1 == 0:
             blocks.append(box(-depth, 0, y0, y1, z - BASE_HALF_HEIGHT_MM, z + BASE_HALF_HEIGHT_MM))
         elif x0 == x1 == lx:
-            blocks.append(box(lx, lx + 0.2 * depth, y0, y1, z - BASE_HALF_HEIGHT_MM,
-                              z + BASE_HALF_HEIGHT_MM))
+            blocks.append(
+                box(lx, lx + 0.2 * depth, y0, y1, z - BASE_HALF_HEIGHT_MM, z + BASE_HALF_HEIGHT_MM)
+            )
         elif y0 == y1 == 0:
-            blocks.append(box(x0, x1, -0.2 * depth, 0, z - BASE_HALF_HEIGHT_MM,
-                              z + BASE_HALF_HEIGHT_MM))
+            blocks.append(
+                box(x0, x1, -0.2 * depth, 0, z - BASE_HALF_HEIGHT_MM, z + BASE_HALF_HEIGHT_MM)
+            )
         else:
-            blocks.append(box(x0, x1, ly, ly + 0.2 * depth, z - BASE_HALF_HEIGHT_MM,
-                              z + BASE_HALF_HEIGHT_MM))
+            blocks.append(
+                box(x0, x1, ly, ly + 0.2 * depth, z - BASE_HALF_HEIGHT_MM, z + BASE_HALF_HEIGHT_MM)
+            )
     return [face for b in blocks for face in b], edges
 
 
@@ -137,16 +142,22 @@ def profile_kind(field, side):
 def contact_marks(field, frame, xy, u):
     """Where the contact points in contact are drawn (mm): a vertex at its deflection, a stop's own
     point at the level of the one obstacle over or under it (it lies on it)."""
-    px, py, pz = list(xy[frame["contact"], 0]), list(xy[frame["contact"], 1]), list(
-        u[frame["contact"]])
+    px, py, pz = (
+        list(xy[frame["contact"], 0]),
+        list(xy[frame["contact"], 1]),
+        list(u[frame["contact"]]),
+    )
     points = field.get("points", [])
     vertices = {tuple(np.round(1e3 * np.array(p), 9)) for p in xy[frame["contact"]]}
     for i in frame.get("contact_points", []):
         x, y = 1e3 * np.array(points[i])
         if (round(x, 9), round(y, 9)) in vertices:
             continue
-        heights = [(field[side], field[f"{side}_heights"][i]) for side in ("lower", "upper")
-                   if field[f"{side}_heights"][i] is not None]
+        heights = [
+            (field[side], field[f"{side}_heights"][i])
+            for side in ("lower", "upper")
+            if field[f"{side}_heights"][i] is not None
+        ]
         if len(heights) == 1:
             level, h = heights[0]
             px.append(x)
@@ -191,27 +202,46 @@ def render(field, out_path, fps=20.0):
             continue
         height = 1e3 * np.array(surface)
         polygons = [[(*xy[i], height[i]) for i in t] for t in tri.triangles]
-        ax.add_collection3d(Poly3DCollection(polygons, facecolor="0.55", edgecolor="none",
-                                             alpha=0.18, zorder=order))
+        ax.add_collection3d(
+            Poly3DCollection(polygons, facecolor="0.55", edgecolor="none", alpha=0.18, zorder=order)
+        )
     for stop in field.get("stops", []):
         polygons, posts = stop_artists(stop, z_lo, z_hi)
         order = 1 if stop["side"] == "lower" else 5
-        ax.add_collection3d(Poly3DCollection(polygons, facecolor="0.35", edgecolor="0.2",
-                                             alpha=0.6, linewidth=0.6, zorder=order))
-        ax.add_collection3d(Line3DCollection(posts, colors="0.25", linewidths=2.0,
-                                             zorder=order))
+        ax.add_collection3d(
+            Poly3DCollection(
+                polygons, facecolor="0.35", edgecolor="0.2", alpha=0.6, linewidth=0.6, zorder=order
+            )
+        )
+        ax.add_collection3d(Line3DCollection(posts, colors="0.25", linewidths=2.0, zorder=order))
     # Slow motion: each frame shows for 1/fps s of playback and covers `interval` s of motion.
     slowed = f", slowed {1 / (fps * interval):.0f}×" if interval else ""
-    heading = (f"{field['element'].capitalize()}, {len(field['cells'])} cells; base "
-               f"{1e3 * field['base_amplitude']:g} mm at {field['base_frequency']:g} Hz{slowed}")
+    heading = (
+        f"{field['element'].capitalize()}, {len(field['cells'])} cells; base "
+        f"{1e3 * field['base_amplitude']:g} mm at {field['base_frequency']:g} Hz{slowed}"
+    )
     fig.text(0.02, 0.96, heading, fontsize=9)
-    profiles = [f"{side} {profile_kind(field, side)} at {1e3 * field[side]:+g} mm"
-                for side in ("lower", "upper") if field[side] is not None]
+    profiles = [
+        f"{side} {profile_kind(field, side)} at {1e3 * field[side]:+g} mm"
+        for side in ("lower", "upper")
+        if field[side] is not None
+    ]
     clamp = field.get("clamp", "xmin")
-    fig.text(0.02, 0.925, f"dark blocks: the moving base, clamping {clamp} (black); grey: "
-             f"obstacles, {'; '.join(profiles) or 'none'}", fontsize=7, color="0.3")
-    fig.text(0.02, 0.895, f"red dots: contact points in contact; vertical scale ×{scale} (ticks "
-             f"in true mm)", fontsize=7, color="0.3")
+    fig.text(
+        0.02,
+        0.925,
+        f"dark blocks: the moving base, clamping {clamp} (black); grey: "
+        f"obstacles, {'; '.join(profiles) or 'none'}",
+        fontsize=7,
+        color="0.3",
+    )
+    fig.text(
+        0.02,
+        0.895,
+        f"red dots: contact points in contact; vertical scale ×{scale} (ticks in true mm)",
+        fontsize=7,
+        color="0.3",
+    )
     info = fig.text(0.02, 0.85, "", fontsize=8, family="monospace")
     light = LightSource(azdeg=200, altdeg=25)
 
@@ -223,24 +253,47 @@ def render(field, out_path, fps=20.0):
             artist.remove()
         z = 1e3 * frame["base"]
         faces, clamped_edges = clamp_blocks(field, outline, xy, z, x_lo)
-        base = Poly3DCollection(faces, facecolor="0.35", edgecolor="0.15", linewidth=0.5,
-                                zorder=2)
+        base = Poly3DCollection(faces, facecolor="0.35", edgecolor="0.15", linewidth=0.5, zorder=2)
         ax.add_collection3d(base)
-        surface = ax.plot_trisurf(tri, u, color="#8fb3de", shade=True, lightsource=light,
-                                  linewidth=0, antialiased=False, zorder=3)
-        rim = Line3DCollection(np.dstack([xy[outline], u[outline]]), colors="0.2",
-                               linewidths=0.7, zorder=3.5)
+        surface = ax.plot_trisurf(
+            tri,
+            u,
+            color="#8fb3de",
+            shade=True,
+            lightsource=light,
+            linewidth=0,
+            antialiased=False,
+            zorder=3,
+        )
+        rim = Line3DCollection(
+            np.dstack([xy[outline], u[outline]]), colors="0.2", linewidths=0.7, zorder=3.5
+        )
         ax.add_collection3d(rim)
-        clamp = Line3DCollection([[(a[0], a[1], z), (b[0], b[1], z)] for a, b in clamped_edges],
-                                 colors="black", linewidths=2.5, zorder=4)
+        clamp = Line3DCollection(
+            [[(a[0], a[1], z), (b[0], b[1], z)] for a, b in clamped_edges],
+            colors="black",
+            linewidths=2.5,
+            zorder=4,
+        )
         ax.add_collection3d(clamp)
         px, py, pz = contact_marks(field, frame, xy, u)
-        marks = ax.scatter(px, py, pz, s=22, color=np.array(CONTACT_COLOUR) / 255,
-                           edgecolor="black", linewidth=0.6, depthshade=False, zorder=4)
+        marks = ax.scatter(
+            px,
+            py,
+            pz,
+            s=22,
+            color=np.array(CONTACT_COLOUR) / 255,
+            edgecolor="black",
+            linewidth=0.6,
+            depthshade=False,
+            zorder=4,
+        )
         dynamic = [base, surface, rim, clamp, marks]
         contact_frames += bool(len(px))
-        info.set_text(f"t = {frame['t']:.4f} s   base z = {z:+5.2f} mm   "
-                      f"E = {frame['energy']:6.3f} J   contact: {len(px):2d} points")
+        info.set_text(
+            f"t = {frame['t']:.4f} s   base z = {z:+5.2f} mm   "
+            f"E = {frame['energy']:6.3f} J   contact: {len(px):2d} points"
+        )
         fig.canvas.draw()
         images.append(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy())
     plt.close(fig)
@@ -250,12 +303,19 @@ def render(field, out_path, fps=20.0):
     # the pixels that change from one frame to the next.
     swatch = np.broadcast_to(np.array(CONTACT_COLOUR, dtype=np.uint8), (64, *images[0].shape[1:]))
     sample = np.concatenate(images[:: max(1, len(images) // 8)] + [swatch], axis=0)
-    palette = Image.fromarray(sample).quantize(colors=PALETTE_COLOURS,
-                                               method=Image.Quantize.MEDIANCUT)
+    palette = Image.fromarray(sample).quantize(
+        colors=PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT
+    )
     gif = [Image.fromarray(a).quantize(palette=palette, dither=Image.Dither.NONE) for a in images]
     out_path = pathlib.Path(out_path)
-    gif[0].save(out_path, save_all=True, append_images=gif[1:], duration=round(1000 / fps),
-                loop=0, optimize=True)
+    gif[0].save(
+        out_path,
+        save_all=True,
+        append_images=gif[1:],
+        duration=round(1000 / fps),
+        loop=0,
+        optimize=True,
+    )
     return {
         "frames": len(frames),
         "t0": frames[0]["t"],
@@ -269,9 +329,11 @@ def render(field, out_path, fps=20.0):
 
 def summary(path, s):
     """One line that says what the GIF shows."""
-    return (f"{path}: {s['frames']} frames, t = {s['t0']:.4f} to {s['t1']:.4f} s every "
-            f"{1e3 * s['frame_interval']:.2f} ms, {s['contact_frames']} with contact, vertical "
-            f"scale ×{s['vertical_scale']}, {s['bytes'] / 1024:.0f} KB")
+    return (
+        f"{path}: {s['frames']} frames, t = {s['t0']:.4f} to {s['t1']:.4f} s every "
+        f"{1e3 * s['frame_interval']:.2f} ms, {s['contact_frames']} with contact, vertical "
+        f"scale ×{s['vertical_scale']}, {s['bytes'] / 1024:.0f} KB"
+    )
 
 
 def main():

@@ -114,10 +114,19 @@ SUBSTEP = 1e-5  # s, the longest shaker substep
 # The plate: the paper's steel plate (the FMU's defaults) and obstacles at +-10 mm, with Rayleigh
 # damping of 1 % from alpha in its first mode (53.8 Hz) and 5 % from beta in its third (335 Hz).
 PLATE_LENGTH, PLATE_WIDTH, PLATE_THICKNESS, PLATE_DENSITY = 0.4, 0.2, 0.01, 7770.0
-PLATE = {"damping.mass_proportional": 2 * 0.01 * 2 * math.pi * 53.8,
-         "damping.stiffness_proportional": 2 * 0.05 / (2 * math.pi * 335.0)}
-OUTPUTS = ["base.force", "base.mean_force", "corner1.displacement", "energy.total", "energy.base_work",
-           "energy.contact_loss", "energy.damping_loss"]
+PLATE = {
+    "damping.mass_proportional": 2 * 0.01 * 2 * math.pi * 53.8,
+    "damping.stiffness_proportional": 2 * 0.05 / (2 * math.pi * 335.0),
+}
+OUTPUTS = [
+    "base.force",
+    "base.mean_force",
+    "corner1.displacement",
+    "energy.total",
+    "energy.base_work",
+    "energy.contact_loss",
+    "energy.damping_loss",
+]
 
 
 def drive(t):
@@ -149,7 +158,9 @@ class Shaker:
         for j in range(n):
             f_drive, r = drive(t + (j + 0.5) * dt), rest((j + 0.5) * dt)
             # Midpoint velocity of m (v1 - v0) = dt (F - c vm - k (x0 + x1)/2), x1 = x0 + dt vm.
-            vm = (2 * m * self.v + dt * (f_drive + r - k * self.x)) / (2 * m + dt * c + 0.5 * k * dt * dt)
+            vm = (2 * m * self.v + dt * (f_drive + r - k * self.x)) / (
+                2 * m + dt * c + 0.5 * k * dt * dt
+            )
             dx, v1 = dt * vm, 2 * vm - self.v
             self.a = (v1 - self.v) / dt
             self.drive_work += f_drive * dx
@@ -187,7 +198,9 @@ class Interface:
         x0, v0, a = plan
         tail = h - self.dt
         moved = v0 * tail + 0.5 * a * tail * tail
-        return moment + self.plate_mass * ((self.end_velocity(plan, h) + self.grid_velocity) * 0.5 * tail - moved)
+        return moment + self.plate_mass * (
+            (self.end_velocity(plan, h) + self.grid_velocity) * 0.5 * tail - moved
+        )
 
     def rest(self, mean_force, plan, h):
         """The plate's mean reaction R over the step without its rigid inertia: the mean force plus
@@ -205,8 +218,12 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
     md = read_model_description(str(fmu))
     unzipdir = extract(str(fmu), unzipdir=tempfile.mkdtemp(prefix="shaker-"))
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    plate = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="plate")
+    plate = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=unzipdir,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="plate",
+    )
     iterations = []
     try:
         plate.instantiate()
@@ -217,12 +234,17 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
         lag = plate.getReal([vr["solver.time_step"]])[0]
         if coupling != "instantaneous" and abs(h / lag - round(h / lag)) > 1e-9 * h / lag:
             # The mean force's window and the rigid part of its impulse are those of whole internal steps.
-            raise ValueError(f"the {coupling} coupling needs h a multiple of solver.time_step = {lag} s, not {h} s")
+            raise ValueError(
+                f"the {coupling} coupling needs h a multiple of solver.time_step = {lag} s, not {h} s"
+            )
         plate_mass = PLATE_DENSITY * PLATE_THICKNESS * PLATE_LENGTH * PLATE_WIDTH
         shaker = Shaker(plate_mass)
         interface = Interface(plate_mass, lag)
         steps = round(stop / h)
-        out = {name: np.empty(steps + 1) for name in ["time", "shaker", "contact.impacts", "residual"] + OUTPUTS}
+        out = {
+            name: np.empty(steps + 1)
+            for name in ["time", "shaker", "contact.impacts", "residual"] + OUTPUTS
+        }
         output_vrs = [vr[n] for n in OUTPUTS]
         displacement = vr["base.displacement"]
 
@@ -233,7 +255,10 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
             out["contact.impacts"][k] = plate.getInteger([vr["contact.impacts"]])[0]
             if coupling == "moments" and k > 0:
                 # The plate stepped in internal-step calls: the step's impacts and mean force are theirs.
-                out["contact.impacts"][k], out["base.mean_force"][k] = sub_step["impacts"], sub_step["mean_force"]
+                out["contact.impacts"][k], out["base.mean_force"][k] = (
+                    sub_step["impacts"],
+                    sub_step["mean_force"],
+                )
             out["residual"][k] = -(out["energy.base_work"][k] + shaker.plate_work)
 
         def step_plate(t, plan):
@@ -308,12 +333,14 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
                     if coupling != "moments":
                         return interface.rest(step_plate(t, plan), plan, h), 0.0
                     mean, moment = step_plate_moments(t, plan)
-                    return interface.rest(mean, plan, h), 12.0 * interface.rest_moment(moment, plan, h) / h**3
+                    return interface.rest(mean, plan, h), 12.0 * interface.rest_moment(
+                        moment, plan, h
+                    ) / h**3
 
                 plan = interface.plan(*start.ahead(lead), start.ahead(lead + h)[0], h)
                 guess, slope = reaction(plan)
                 last = None  # (guess, change) of the previous iterate
-                for iteration in range(1, max_iterations + 1):
+                for iteration in range(1, max_iterations + 1):  # noqa: B007 (read after the loop)
                     shaker, plan = shaken(guess, slope)
                     if coupling == "mean":
                         break
@@ -333,7 +360,9 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
                         following = guess - change * (guess - last[0]) / (change - last[1])
                     last, guess = (guess, change), following
                 else:
-                    raise RuntimeError(f"t = {t} s: no convergence in {max_iterations} iterations ({change:.1e} N)")
+                    raise RuntimeError(
+                        f"t = {t} s: no convergence in {max_iterations} iterations ({change:.1e} N)"
+                    )
                 if state is not None:
                     plate.freeFMUstate(state)
                 iterations.append(iteration)
@@ -362,20 +391,27 @@ def run(h, stop, fmu=FMU, coupling="iterated", tolerance=1e-12, max_iterations=5
     balance["residual"] = -(change("energy.base_work") + (shaker.plate_work - plate_work0))
     # Moments coupling: the part of the residual that is the kink terms (from t_1 on, as the balance).
     balance["kinks"] = float(kinks[1:].sum()) if coupling == "moments" else None
-    accounted = sum(balance[k] for k in ("shaker", "shaker_damper", "plate", "contact_loss", "plate_damping"))
+    accounted = sum(
+        balance[k] for k in ("shaker", "shaker_damper", "plate", "contact_loss", "plate_damping")
+    )
     # What is left once the coupling residual is counted: the plate's own balance, to round-off.
     balance["closure"] = balance["drive"] - accounted - balance["residual"]
     balance["impacts"] = int(out["contact.impacts"].sum())
-    balance["iterations"] = ((float(np.mean(iterations)), int(np.max(iterations)))
-                             if coupling in ("iterated", "moments") else None)
+    balance["iterations"] = (
+        (float(np.mean(iterations)), int(np.max(iterations)))
+        if coupling in ("iterated", "moments")
+        else None
+    )
     return out, balance
 
 
 def balance_line(h, b):
-    return (f"power balance over [h, T] with h = {h * 1e3:g} ms: drive {b['drive']:.4f} J = shaker "
-            f"{b['shaker']:.4f} J + shaker damper {b['shaker_damper']:.4f} J + plate {b['plate']:.4f} J "
-            f"+ contacts {b['contact_loss']:.4f} J + plate damping {b['plate_damping']:.4f} J "
-            f"+ coupling residual {b['residual']:.3e} J ({abs(b['residual']) / b['drive']:.2e} of the drive's work)")
+    return (
+        f"power balance over [h, T] with h = {h * 1e3:g} ms: drive {b['drive']:.4f} J = shaker "
+        f"{b['shaker']:.4f} J + shaker damper {b['shaker_damper']:.4f} J + plate {b['plate']:.4f} J "
+        f"+ contacts {b['contact_loss']:.4f} J + plate damping {b['plate_damping']:.4f} J "
+        f"+ coupling residual {b['residual']:.3e} J ({abs(b['residual']) / b['drive']:.2e} of the drive's work)"
+    )
 
 
 def plot(out, path):
@@ -388,17 +424,33 @@ def plot(out, path):
 
     t = out["time"]
     zoom = t >= t[-1] - 3 / DRIVE_FREQUENCY
-    fig, axes = plt.subplots(3, 2, figsize=(11, 7.5), sharex="col", gridspec_kw={"width_ratios": [2, 1]})
+    fig, axes = plt.subplots(
+        3, 2, figsize=(11, 7.5), sharex="col", gridspec_kw={"width_ratios": [2, 1]}
+    )
     for column, keep in enumerate([np.ones_like(t, dtype=bool), zoom]):
         tt = t[keep]
         axes[0, column].plot(tt, 1e3 * out["shaker"][keep], color="tab:blue")
         axes[1, column].plot(tt, 1e3 * out["corner1.displacement"][keep], color="tab:green", lw=0.8)
         for g in (-10, 10):
             axes[1, column].axhline(g, color="k", lw=0.8, ls="--")
-        axes[2, column].plot(tt, [drive(s) for s in tt], color="tab:gray", lw=0.8, label="coil force")
-        axes[2, column].plot(tt, out["base.force"][keep], color="tab:red", lw=0.7, label="base.force (plate on shaker)")
-        axes[2, column].step(tt, out["base.mean_force"][keep], where="pre", color="tab:blue", lw=0.7,
-                             label="base.mean_force over each step")
+        axes[2, column].plot(
+            tt, [drive(s) for s in tt], color="tab:gray", lw=0.8, label="coil force"
+        )
+        axes[2, column].plot(
+            tt,
+            out["base.force"][keep],
+            color="tab:red",
+            lw=0.7,
+            label="base.force (plate on shaker)",
+        )
+        axes[2, column].step(
+            tt,
+            out["base.mean_force"][keep],
+            where="pre",
+            color="tab:blue",
+            lw=0.7,
+            label="base.mean_force over each step",
+        )
         hits = tt[out["contact.impacts"][keep] > 0]
         low = axes[2, column].get_ylim()[0]
         axes[2, column].plot(hits, np.full(len(hits), low), "|", color="k", ms=8, label="impacts")
@@ -408,8 +460,10 @@ def plot(out, path):
     axes[2, 0].set_ylabel("force on the shaker (N)")
     axes[2, 0].legend(loc="upper left", fontsize=8, ncol=3)
     axes[0, 1].set_title("last three drive periods", fontsize=10)
-    fig.suptitle(f"Plate FMU on a shaker driven at {DRIVE_FREQUENCY:g} Hz, coupled both ways "
-                 f"(h = {1e3 * (t[1] - t[0]):g} ms)")
+    fig.suptitle(
+        f"Plate FMU on a shaker driven at {DRIVE_FREQUENCY:g} Hz, coupled both ways "
+        f"(h = {1e3 * (t[1] - t[0]):g} ms)"
+    )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=100)
@@ -424,20 +478,33 @@ def plot_modes(runs, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colors = {"instantaneous": "tab:red", "mean": "tab:orange", "iterated": "tab:blue", "moments": "tab:green"}
+    colors = {
+        "instantaneous": "tab:red",
+        "mean": "tab:orange",
+        "iterated": "tab:blue",
+        "moments": "tab:green",
+    }
     steps = sorted({h for h, _ in runs}, reverse=True)
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
     for mode in COUPLINGS:
         out, b = runs[(steps[0], mode)]
         residual = out["residual"][1:] - out["residual"][1]
         left.plot(out["time"][1:], residual / b["drive"], color=colors[mode], label=mode)
-        fractions = [abs(runs[(h, mode)][1]["residual"]) / runs[(h, mode)][1]["drive"] for h in steps]
+        fractions = [
+            abs(runs[(h, mode)][1]["residual"]) / runs[(h, mode)][1]["drive"] for h in steps
+        ]
         right.loglog([1e3 * h for h in steps], fractions, "o-", color=colors[mode], label=mode)
         if mode in ("iterated", "moments"):
             for h, f in zip(steps, fractions):
                 mean, most = runs[(h, mode)][1]["iterations"]
-                right.annotate(f"{mean:.1f} it.", (1e3 * h, f), textcoords="offset points", xytext=(5, 4),
-                               fontsize=8, color=colors[mode])
+                right.annotate(
+                    f"{mean:.1f} it.",
+                    (1e3 * h, f),
+                    textcoords="offset points",
+                    xytext=(5, 4),
+                    fontsize=8,
+                    color=colors[mode],
+                )
     left.axhline(0.0, color="k", lw=0.6)
     left.set_xlabel("t (s)")
     left.set_ylabel("coupling residual / drive's work")
@@ -449,7 +516,9 @@ def plot_modes(runs, path):
     right.set_ylabel("|coupling residual| / drive's work")
     right.set_title(f"over {runs[(steps[0], COUPLINGS[0])][0]['time'][-1]:g} s", fontsize=10)
     right.legend(fontsize=8)
-    fig.suptitle("Plate FMU on the shaker: instantaneous base.force, base.mean_force, iterated, and with the force's first moment")
+    fig.suptitle(
+        "Plate FMU on the shaker: instantaneous base.force, base.mean_force, iterated, and with the force's first moment"
+    )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=100)
@@ -462,8 +531,12 @@ def state_cost(fmu=FMU, repeats=200):
     md = read_model_description(str(fmu))
     unzipdir = extract(str(fmu), unzipdir=tempfile.mkdtemp(prefix="shaker-"))
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    plate = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="plate")
+    plate = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=unzipdir,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="plate",
+    )
     try:
         plate.instantiate()
         plate.setupExperiment(startTime=0.0)
@@ -471,13 +544,18 @@ def state_cost(fmu=FMU, repeats=200):
         plate.enterInitializationMode()
         plate.exitInitializationMode()
         for k in range(100):
-            plate.setReal([vr["base.displacement"]], [1e-3 * math.sin(2 * math.pi * DRIVE_FREQUENCY * k * 1e-3)])
+            plate.setReal(
+                [vr["base.displacement"]],
+                [1e-3 * math.sin(2 * math.pi * DRIVE_FREQUENCY * k * 1e-3)],
+            )
             plate.doStep(k * 1e-3, 1e-3)
         state = plate.getFMUstate()
         timings = {}
-        for name, call in [("get", lambda: plate.freeFMUstate(plate.getFMUstate())),
-                           ("set", lambda: plate.setFMUstate(state)),
-                           ("serialize", lambda: plate.serializeFMUstate(state))]:
+        for name, call in [
+            ("get", lambda: plate.freeFMUstate(plate.getFMUstate())),
+            ("set", lambda: plate.setFMUstate(state)),
+            ("serialize", lambda: plate.serializeFMUstate(state)),
+        ]:
             began = time.perf_counter()
             for _ in range(repeats):
                 call()
@@ -497,49 +575,79 @@ def state_cost(fmu=FMU, repeats=200):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--fmu", default=str(FMU))
     parser.add_argument("--h", type=float, default=5e-4, help="communication step (s)")
     parser.add_argument("--stop", type=float, default=1.0, help="horizon (s)")
-    parser.add_argument("--coupling", choices=COUPLINGS, default="iterated",
-                        help="what the master feeds back (default: iterated, the smallest residual)")
-    parser.add_argument("--out", default=str(ROOT / "docs" / "coupling"), help="directory of the plots")
+    parser.add_argument(
+        "--coupling",
+        choices=COUPLINGS,
+        default="iterated",
+        help="what the master feeds back (default: iterated, the smallest residual)",
+    )
+    parser.add_argument(
+        "--out", default=str(ROOT / "docs" / "coupling"), help="directory of the plots"
+    )
     parser.add_argument("--no-plot", action="store_true")
     parser.add_argument("--sweep", action="store_true", help="the residual for h = 2 ms to 0.1 ms")
-    parser.add_argument("--compare", action="store_true",
-                        help="the four couplings at h = 2, 1, 0.5 ms (table, and the plot coupling_modes.png)")
+    parser.add_argument(
+        "--compare",
+        action="store_true",
+        help="the four couplings at h = 2, 1, 0.5 ms (table, and the plot coupling_modes.png)",
+    )
     parser.add_argument("--state-cost", action="store_true", help="time and size of the FMU state")
     args = parser.parse_args()
     if args.state_cost:
         c = state_cost(args.fmu)
-        print(f"FMU state of the paper's mesh: get {1e6 * c['get']:.1f} us, set {1e6 * c['set']:.1f} us, "
-              f"serialize {1e6 * c['serialize']:.1f} us, {c['bytes']} bytes serialized; "
-              f"one 1 ms doStep {1e6 * c['step']:.1f} us")
+        print(
+            f"FMU state of the paper's mesh: get {1e6 * c['get']:.1f} us, set {1e6 * c['set']:.1f} us, "
+            f"serialize {1e6 * c['serialize']:.1f} us, {c['bytes']} bytes serialized; "
+            f"one 1 ms doStep {1e6 * c['step']:.1f} us"
+        )
     if args.sweep:
         for h in (2e-3, 1e-3, 5e-4, 2e-4, 1e-4):
             _, b = run(h, args.stop, args.fmu, args.coupling)
-            print(f"h = {h * 1e3:5.2f} ms: residual {b['residual']:+.4e} J ({abs(b['residual']) / b['drive']:.2e} "
-                  f"of the drive's {b['drive']:.3f} J), {b['impacts']} impacts")
+            print(
+                f"h = {h * 1e3:5.2f} ms: residual {b['residual']:+.4e} J ({abs(b['residual']) / b['drive']:.2e} "
+                f"of the drive's {b['drive']:.3f} J), {b['impacts']} impacts"
+            )
     if args.compare:
         runs = {}
-        print("| h | coupling | residual (J) | of the drive's work | drive (J) | impacts | iterations (mean, max) | kink terms (J) |")
+        print(
+            "| h | coupling | residual (J) | of the drive's work | drive (J) | impacts | iterations (mean, max) | kink terms (J) |"
+        )
         print("|---|---|---|---|---|---|---|---|")
         for h in (2e-3, 1e-3, 5e-4):
             for mode in COUPLINGS:
                 runs[(h, mode)] = run(h, args.stop, args.fmu, mode)
                 b = runs[(h, mode)][1]
-                its = "-" if b["iterations"] is None else f"{b['iterations'][0]:.2f}, {b['iterations'][1]}"
+                its = (
+                    "-"
+                    if b["iterations"] is None
+                    else f"{b['iterations'][0]:.2f}, {b['iterations'][1]}"
+                )
                 kinks = "-" if b["kinks"] is None else f"{b['kinks']:+.3e}"
-                print(f"| {1e3 * h:g} ms | {mode} | {b['residual']:+.3e} | {abs(b['residual']) / b['drive']:.2e} | "
-                      f"{b['drive']:.2f} | {b['impacts']} | {its} | {kinks} |", flush=True)
+                print(
+                    f"| {1e3 * h:g} ms | {mode} | {b['residual']:+.3e} | {abs(b['residual']) / b['drive']:.2e} | "
+                    f"{b['drive']:.2f} | {b['impacts']} | {its} | {kinks} |",
+                    flush=True,
+                )
         if not args.no_plot:
             plot_modes(runs, pathlib.Path(args.out) / "coupling_modes.png")
     out, b = run(args.h, args.stop, args.fmu, args.coupling)
     if not args.no_plot:
         plot(out, pathlib.Path(args.out) / "shaker_coupling.png")
-    iterations = "" if b["iterations"] is None else f"; {b['iterations'][0]:.2f} iterations per step (at most {b['iterations'][1]})"
-    print(f"{args.coupling} coupling: {b['impacts']} impacts; the plate's own balance closes to {b['closure']:.1e} J"
-          f"{iterations}")
+    iterations = (
+        ""
+        if b["iterations"] is None
+        else f"; {b['iterations'][0]:.2f} iterations per step (at most {b['iterations'][1]})"
+    )
+    print(
+        f"{args.coupling} coupling: {b['impacts']} impacts; the plate's own balance closes to {b['closure']:.1e} J"
+        f"{iterations}"
+    )
     print(balance_line(args.h, b))
 
 

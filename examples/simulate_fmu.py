@@ -40,9 +40,19 @@ import plate_animation  # noqa: E402
 from plateimpact_tools import DEFAULT_FMU, ROOT  # noqa: E402
 from plateimpact_tools.scene_values import scene as start_values  # noqa: E402
 
-OUTPUTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
-           "probe1.displacement", "probe2.displacement", "energy.kinetic", "energy.elastic",
-           "energy.total", "contact.active_nodes", "contact.force", "stop1.force"]
+OUTPUTS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "edge_mid.displacement",
+    "probe1.displacement",
+    "probe2.displacement",
+    "energy.kinetic",
+    "energy.elastic",
+    "energy.total",
+    "contact.active_nodes",
+    "contact.force",
+    "stop1.force",
+]
 # The animations: scene, start (s), forcing periods shown, internal steps per frame (0.6 ms at the
 # scene's Δt = 0.1 ms: an impact, about 1.8 ms long, spans three frames) and the file.
 ANIMATIONS = [
@@ -78,15 +88,23 @@ def simulate(fmu, scene_name, out_dir):
     else:
         values, stop = start_values(scene_name)
     t0 = time.perf_counter()
-    result = fmpy.simulate_fmu(fmu, start_values=values, stop_time=stop, output_interval=1e-3,
-                               output=OUTPUTS)
+    result = fmpy.simulate_fmu(
+        fmu, start_values=values, stop_time=stop, output_interval=1e-3, output=OUTPUTS
+    )
     wall = time.perf_counter() - t0
     names = result.dtype.names
     csv = out_dir / f"{scene_name}.csv"
-    np.savetxt(csv, np.column_stack([result[n] for n in names]), delimiter=",",
-               header=",".join(names), comments="")
-    print(f"{shown(csv)}: {len(result)} rows of time and {len(names) - 1} FMU outputs every 1 ms, "
-          f"{wall:.2f} s wall time")
+    np.savetxt(
+        csv,
+        np.column_stack([result[n] for n in names]),
+        delimiter=",",
+        header=",".join(names),
+        comments="",
+    )
+    print(
+        f"{shown(csv)}: {len(result)} rows of time and {len(names) - 1} FMU outputs every 1 ms, "
+        f"{wall:.2f} s wall time"
+    )
     stops = "stop1.force" in names and np.any(result["stop1.force"] != 0)
     fig, axes = plt.subplots(3 if stops else 2, 1, figsize=(9, 8 if stops else 6), sharex=True)
     ax1, ax2 = axes[0], axes[-1]
@@ -109,9 +127,11 @@ def simulate(fmu, scene_name, out_dir):
     plt.close(fig)
     largest = max(np.abs(result[name]).max() for name, _ in displacement_curves(values))
     stop_line = f", stop 1 force up to {np.abs(result['stop1.force']).max():.0f} N" if stops else ""
-    print(f"{shown(png)}: displacements and energy of '{scene_name}', largest |u| = "
-          f"{1e3 * largest:.3f} mm, {impacts(result['contact.active_nodes'])} contact episodes"
-          f"{stop_line}, final energy {result['energy.total'][-1]:.3f} J")
+    print(
+        f"{shown(png)}: displacements and energy of '{scene_name}', largest |u| = "
+        f"{1e3 * largest:.3f} mm, {impacts(result['contact.active_nodes'])} contact episodes"
+        f"{stop_line}, final energy {result['energy.total'][-1]:.3f} J"
+    )
 
 
 def displacement_curves(values):
@@ -120,9 +140,11 @@ def displacement_curves(values):
     places (off their start at the corner (0, 0))."""
     curves = []
     if values.get("plate.clamp", "xmin").strip() not in ("all", "xmax"):
-        curves += [("corner1.displacement", "corner (Lx, 0)"),
-                   ("corner2.displacement", "corner (Lx, Ly)"),
-                   ("edge_mid.displacement", "edge midpoint (Lx, Ly/2)")]
+        curves += [
+            ("corner1.displacement", "corner (Lx, 0)"),
+            ("corner2.displacement", "corner (Lx, Ly)"),
+            ("edge_mid.displacement", "edge midpoint (Lx, Ly/2)"),
+        ]
     for k in (1, 2):
         x, y = values.get(f"probe{k}.x", 0.0), values.get(f"probe{k}.y", 0.0)
         if (x, y) != (0.0, 0.0):
@@ -144,14 +166,22 @@ def compare_with_fmu(fmu, field, values):
     the same instants (the FMU is run with the field's frame interval as communication step)."""
     frames = field["frames"]
     interval = frames[1]["t"] - frames[0]["t"]
-    result = fmpy.simulate_fmu(fmu, start_values=values, stop_time=frames[-1]["t"],
-                               output_interval=interval,
-                               output=["corner1.displacement", "corner2.displacement",
-                                       "energy.total"])
+    result = fmpy.simulate_fmu(
+        fmu,
+        start_values=values,
+        stop_time=frames[-1]["t"],
+        output_interval=interval,
+        output=["corner1.displacement", "corner2.displacement", "energy.total"],
+    )
     xy = np.array(field["vertices"])
-    corners = [int(np.flatnonzero(np.all(np.isclose(xy, [field["length"], y], rtol=0,
-                                                     atol=1e-12), axis=1))[0])
-               for y in (0.0, field["width"])]
+    corners = [
+        int(
+            np.flatnonzero(
+                np.all(np.isclose(xy, [field["length"], y], rtol=0, atol=1e-12), axis=1)
+            )[0]
+        )
+        for y in (0.0, field["width"])
+    ]
     corner_gap, energy_gap, matched = 0.0, 0.0, 0
     for frame in frames:
         row = np.flatnonzero(np.abs(result["time"] - frame["t"]) < 1e-9 * interval)
@@ -165,8 +195,10 @@ def compare_with_fmu(fmu, field, values):
     if matched < len(frames) // 2:
         sys.exit(f"only {matched} of {len(frames)} field frames fall on FMU output times")
     if corner_gap > CORNER_TOLERANCE_M:
-        sys.exit(f"the field's free corners differ from the FMU's corner outputs by "
-                 f"{corner_gap:.3g} m (limit {CORNER_TOLERANCE_M:g} m)")
+        sys.exit(
+            f"the field's free corners differ from the FMU's corner outputs by "
+            f"{corner_gap:.3g} m (limit {CORNER_TOLERANCE_M:g} m)"
+        )
     return matched, corner_gap, energy_gap
 
 
@@ -176,16 +208,29 @@ def animate(fmu, out_dir, animation):
     values, _ = start_values(scene)
     stop = animation["start"] + animation["periods"] / values["base.frequency"]
     path = out_dir / f"{pathlib.Path(animation['gif']).stem}-field.json"
-    run_example("scene", [scene, f"stop_time={stop!r}", "--from", str(animation["start"]),
-                          "--every", str(animation["every"]), "--field", str(path)])
+    run_example(
+        "scene",
+        [
+            scene,
+            f"stop_time={stop!r}",
+            "--from",
+            str(animation["start"]),
+            "--every",
+            str(animation["every"]),
+            "--field",
+            str(path),
+        ],
+    )
     field = json.loads(path.read_text())
     matched, corner_gap, energy_gap = compare_with_fmu(fmu, field, values)
     frames = field["frames"]
-    print(f"{shown(path)}: '{scene}' from the library, {len(frames)} frames of u at "
-          f"{len(field['vertices'])} vertices, t = {frames[0]['t']:.4f} to "
-          f"{frames[-1]['t']:.4f} s; "
-          f"at {matched} frames the free corners equal the FMU's outputs to {corner_gap:.1e} m "
-          f"and the energy to {energy_gap:.1e} J")
+    print(
+        f"{shown(path)}: '{scene}' from the library, {len(frames)} frames of u at "
+        f"{len(field['vertices'])} vertices, t = {frames[0]['t']:.4f} to "
+        f"{frames[-1]['t']:.4f} s; "
+        f"at {matched} frames the free corners equal the FMU's outputs to {corner_gap:.1e} m "
+        f"and the energy to {energy_gap:.1e} J"
+    )
     gif = out_dir / animation["gif"]
     print(plate_animation.summary(shown(gif), plate_animation.render(field, gif)))
 
@@ -193,11 +238,12 @@ def animate(fmu, out_dir, animation):
 def plot_modes(out_dir):
     """The lowest mode shapes of the paper's plate."""
     path = out_dir / "modes.json"
-    run_example("modes", [*MODES["mesh"], "--shapes", str(path), "--refine",
-                          str(MODES["refine"])])
+    run_example("modes", [*MODES["mesh"], "--shapes", str(path), "--refine", str(MODES["refine"])])
     data = json.loads(path.read_text())
-    print(f"{shown(path)}: {len(data['shapes'])} mode shapes of the {data['element']} "
-          f"{data['nx']} × {data['ny']} plate on a {len(data['x'])} × {len(data['y'])} grid")
+    print(
+        f"{shown(path)}: {len(data['shapes'])} mode shapes of the {data['element']} "
+        f"{data['nx']} × {data['ny']} plate on a {len(data['x'])} × {len(data['y'])} grid"
+    )
     png = out_dir / "modes.png"
     print(mode_shapes.summary(shown(png), mode_shapes.render(data, png)))
 
@@ -206,10 +252,20 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fmu", default=str(DEFAULT_FMU))
     parser.add_argument("--out", default=str(ROOT / "out"))
-    parser.add_argument("scenes", nargs="*",
-                        default=["forced", "forced-35hz", "forced-35hz-damped", "energy",
-                                 "stud-corner", "clamped-panel", "inclined-support"],
-                        help="scenes run through the FMU (file stems of scenes/, or default)")
+    parser.add_argument(
+        "scenes",
+        nargs="*",
+        default=[
+            "forced",
+            "forced-35hz",
+            "forced-35hz-damped",
+            "energy",
+            "stud-corner",
+            "clamped-panel",
+            "inclined-support",
+        ],
+        help="scenes run through the FMU (file stems of scenes/, or default)",
+    )
     args = parser.parse_args()
     out_dir = pathlib.Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -40,24 +40,24 @@ pub const DOCS_SECTION: &str =
 pub const MODAL_DOCS: &str = "docs/accuracy/modal_damping.md";
 
 /// The Δt (s) of the modal damping study's findings (docs/accuracy/modal_damping.md), the smallest
-/// its lines ran but for two checks at 1e-7 s: at larger Δt the time averages of the forced 35 Hz
+/// its lines ran but for two runs at 1e-7 s: at larger Δt the time averages of the forced 35 Hz
 /// scene change by several percent from one Δt to the next, on every mesh.
 pub const MODAL_RATIO_TIME_STEP: f64 = 1e-6;
 
 /// What the modal damping study found for a plate damped mode by mode
 /// (docs/accuracy/modal_damping.md, "Findings"), restated for the warning.
 pub const MODAL_RATIO_FINDING: &str = "ran the paper's plate with a ratio of 0.5, 1 and 2 % on \
-     every mode. Forced at 60 Hz, the mean energy and the RMS corner displacement converged at \
-     every ratio (13.47 to 13.55 J on every mesh and time step at 1 %; at 0.5 and 2 % the two \
-     elements' 28 x 20 meshes agree within 0.3 %), and at 1 % the base force, checked at 1e-7 s on \
-     one mesh, had settled at solver.time_step = 1e-6 s. Forced at 35 Hz, below the first mode, only the finest meshes \
-     (Argyris 28 x 20 and FVS 28 x 20, about 5 000 and 1 800 free dofs, at solver.time_step = \
-     1e-6 s) agree on the mean energy, within 0.2 % at 1 % (9.81 J) and 0.6 % at 0.5 and 2 %; \
-     coarser meshes are up to 19 % high. There, from 1e-5 to 1e-6 s, the mean energy still moved \
-     by 2 to 5 % at 0.5 and 2 % (under 1 % at 1 %) and the base force by up to 87 %; at 1 %, a \
-     run at solver.time_step = 1e-7 s on FVS 28 x 20 moved the mean energy, the RMS corner and the \
-     base force by at most 1.3 % from 1e-6 s. Impact counts converged on neither scene. Judge a \
-     time average by comparing two meshes and two time steps.";
+     every mode and judged it by the rule of scripts/converge (three time steps and three meshes \
+     that agree). Of its time averages one converged: forced at 60 Hz at a ratio of 1 %, the mean \
+     energy (13.53 J within 0.10 J, Argyris 28 x 20 at solver.time_step = 1e-6 s). Forced at 35 Hz, \
+     below the first mode, the finest meshes (Argyris 28 x 20 and FVS 28 x 20, about 5 000 and 1 800 \
+     free dofs, at solver.time_step = 1e-6 s) lie within 0.2 % of each other on the mean energy at \
+     1 % (9.81 J) and 0.6 % at 0.5 and 2 %, and FVS 14 x 10 within 0.1 % of them at 1 %; coarser \
+     meshes are up to 19 % high. There, from 1e-5 to 1e-6 s, the mean energy still moved by 2 to \
+     5 % at 0.5 and 2 % (under 1 % at 1 %) and the base force by up to 87 %, and from 1e-6 to \
+     1e-7 s the time averages moved by up to 1.3 % on FVS 28 x 20 and 4.8 % on Argyris 10 x 7. \
+     Impact counts converged on neither scene. Judge a time average by three time steps and three \
+     meshes, as scripts/converge does.";
 
 /// The first natural angular frequency (rad/s) of the scene's plate, estimated as a cantilever
 /// beam of the plate's length with the plate's bending stiffness per unit width:
@@ -176,8 +176,10 @@ impl StatisticsAdvice {
         format!(
             "impact statistics may not converge: an obstacle is enabled and the modes the scheme \
              does not resolve (omega >= 1/solver.time_step = {:.3e} rad/s) are damped down to the \
-             ratio {:.3e}, below the {CONVERGED_HIGH_MODE_RATIO} from which time averages and \
-             impact counts were found converged in time step and mesh. To converge, {remedy} \
+             ratio {:.3e}, below {CONVERGED_HIGH_MODE_RATIO}: the project found time averages \
+             converged in time step and mesh only above it (a necessary condition, not a \
+             sufficient one: impact counts did not converge even there). To come within it, \
+             {remedy} \
              (beta = zeta_1/(pi f_1) gives mode 1 of frequency f_1 the ratio zeta_1). {band}{modal}This \
              warning changes no result. See {DOCS_SECTION}",
             1.0 / dt,

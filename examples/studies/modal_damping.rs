@@ -51,7 +51,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-use common::{element_name, exit_code, StudyDir};
+use common::{element_name, exit_code, source_revision, StudyDir};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
@@ -881,24 +881,6 @@ fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
     Ok((plan, partial))
 }
 
-/// The commit of the working tree, with `+dirty` when it has uncommitted changes.
-fn commit() -> String {
-    let git = |args: &[&str]| {
-        std::process::Command::new("git")
-            .args(args)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    let head = git(&["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
-    match git(&["status", "--porcelain", "--untracked-files=no"]) {
-        Some(s) if !s.is_empty() => format!("{head}+dirty"),
-        _ => head,
-    }
-}
-
 fn main() -> ExitCode {
     exit_code(study())
 }
@@ -1129,7 +1111,7 @@ fn meta(
     parts.dedup();
     let mut meta = String::from("key,value\n");
     for (k, v) in [
-        ("commit", commit()),
+        ("commit", source_revision()),
         ("plan", plan.name.to_string()),
         ("arguments", args.join(" ")),
         ("complete", complete.to_string()),

@@ -1,6 +1,6 @@
 //! Call sequences of both FMI versions, driven by the fuzzer's bytes (which call, which values
 //! and value references, which step sizes), through the exported C functions under the oracles
-//! of `plate_impact::fmi::host_check` (the random call-sequence test's).
+//! of `plate_impact_host_check` (the random call-sequence test's).
 //!
 //! Input: a flags byte (bit 0: FMI 3.0, bit 1: start from a running simulation), then calls
 //! until the bytes run out (at most 64). Values come from the host's tables most of the time
@@ -11,7 +11,7 @@
 
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
-use plate_impact::fmi::host_check::{
+use plate_impact_host_check::{
     fuzz_init, fuzz_sequence, value_references, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS, TEXTS, TIMES,
 };
 use plate_impact::fmi::variables::{Description, Kind, FMI2, FMI3};

@@ -1,6 +1,6 @@
 //! fmi2DeSerializeFMUstate / fmi3DeserializeFMUState of untrusted bytes, then, when a state was
 //! made, its restore and steps of 1, 3 and 10 internal steps, under the oracles of
-//! `plate_impact::fmi::host_check` (the random call-sequence test's), which after every call
+//! `plate_impact_host_check` (the random call-sequence test's), which after every call
 //! also take the FMU state, serialize it and set it again.
 //!
 //! Input: one flags byte, then the bytes. Flags bit 0: FMI 3.0 (else FMI 2.0); bit 1: the bytes
@@ -12,7 +12,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use plate_impact::fmi::host_check::{fuzz_init, fuzz_sequence, Op};
+use plate_impact_host_check::{fuzz_init, fuzz_sequence, Op};
 use plate_impact::fmi::serialized;
 
 /// The most mesh cells a state may ask for (the seeds have 6): larger meshes are legitimate

@@ -11,14 +11,35 @@
 //! - [`Claims::range`]: "0.01–0.4 %": the smallest and largest computed values round to the two
 //!   numbers.
 //!
+//! - [`Claims::holds`]: a statement without a number ("the most on the 28 × 20 meshes", "not
+//!   converged") whose truth the claim computes from the rows or the rule's verdicts.
+//!
 //! [`Claims::given`] names text whose numbers are inputs, not results (a setting of the study, a
 //! parameter, a mesh's size, a tolerance the study applies, a reference to a section): every
-//! number inside each occurrence is covered. Mesh names `10 × 7` and `10×7` are covered as such.
-//! Every other number of the prose is a failure naming its line, so a new number cannot enter a
-//! checked document without its claim, and a rerun that moves a value fails until the prose
-//! follows.
+//! number inside each occurrence is covered. A given text may hold no word of a verdict or a
+//! comparison ([`VERDICT_WORDS`]): a result cannot pass as an input. [`Claims::defines`] names text
+//! that defines a term or the rule ("converged when both ladders pass at 1 %"): it may use those
+//! words, and its numbers are the definition's parameters. Mesh names `10 × 7` and `10×7` are
+//! covered as such. Every other number of the prose is a failure naming its line, so a new number
+//! cannot enter a checked document without its claim, and a rerun that moves a value fails until
+//! the prose follows. A document that calls [`Claims::check_verdict_words`] also fails on every
+//! verdict word of its prose that no claim's quote or definition holds.
 
 use super::prose::{numbers_in, Prose, Token};
+
+/// Words that state a verdict or compare results. A [`Claims::given`] text holds none; in a
+/// document that checks them ([`Claims::check_verdict_words`]) each occurrence lies inside a
+/// claim's quote or a definition.
+pub const VERDICT_WORDS: [&str; 8] = [
+    "converge",
+    "settle",
+    "agree",
+    "the most",
+    "least",
+    "does not grow",
+    "every mesh",
+    "only the",
+];
 
 /// What a claim asserts of its computed values.
 #[derive(Clone, Copy, Debug)]
@@ -29,6 +50,8 @@ enum Kind {
     Upper,
     /// The stated numbers are the smallest and largest values, rounded.
     Range,
+    /// A statement without numbers, true by the computed value (1 for true).
+    Holds,
 }
 
 struct Claim {
@@ -38,17 +61,44 @@ struct Claim {
     values: Vec<f64>,
 }
 
+/// How the numbers of a prose are covered: by a claim checked against data, as an input or a
+/// definition's parameter, as a side of a mesh name; `total` counts every number.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tally {
+    pub claimed: usize,
+    pub inputs: usize,
+    pub meshes: usize,
+    pub total: usize,
+}
+
+/// The numbers of `markdown`'s prose (all of it, generated blocks and code aside): how many are
+/// sides of mesh names, and how many in all.
+pub fn unchecked_tally(markdown: &str) -> Tally {
+    let prose = Prose::of(markdown, &[], &[], None);
+    let tokens = prose.numbers();
+    let meshes = (0..tokens.len())
+        .filter(|&k| is_mesh(&prose.text, &tokens, k))
+        .count();
+    Tally {
+        meshes,
+        total: tokens.len(),
+        ..Tally::default()
+    }
+}
+
 /// The claims of one document (see the module documentation).
 pub struct Claims {
     pub document: &'static str,
-    /// Headings of sections left out of the check, each with the reason.
-    skipped: Vec<(&'static str, &'static str)>,
     /// First words of blocks (a paragraph, list item or table) left out, each with the reason.
     skipped_blocks: Vec<(&'static str, &'static str)>,
     /// The one section checked, when not the whole document, and why the rest is left out.
     only: Option<(&'static str, &'static str)>,
     claims: Vec<Claim>,
     given: Vec<String>,
+    /// Texts that define a term or the rule: numbers and verdict words covered.
+    definitions: Vec<String>,
+    /// Whether every verdict word of the prose must lie inside a claim or a definition.
+    verdict_words: bool,
 }
 
 /// A stated number as written in a quote: `−1.04`, `4 889`, `2.5e-6` (a thin or normal space
@@ -100,18 +150,13 @@ impl Claims {
     pub fn new(document: &'static str) -> Claims {
         Claims {
             document,
-            skipped: Vec::new(),
             skipped_blocks: Vec::new(),
             only: None,
             claims: Vec::new(),
             given: Vec::new(),
+            definitions: Vec::new(),
+            verdict_words: false,
         }
-    }
-
-    /// Leaves the section under `heading` (and its subsections) out of the check, for `reason`.
-    pub fn skip_section(&mut self, heading: &'static str, reason: &'static str) {
-        assert!(!reason.is_empty(), "a skipped section needs its reason");
-        self.skipped.push((heading, reason));
     }
 
     /// Checks the section under `heading` alone, the rest of the document left out for `reason`.
@@ -130,9 +175,31 @@ impl Claims {
         self.skipped_blocks.push((start, reason));
     }
 
-    /// Texts whose numbers are inputs, not results (see the module documentation).
+    /// Texts whose numbers are inputs, not results (see the module documentation); a text with
+    /// a word of [`VERDICT_WORDS`] is refused: a verdict is claimed, never given.
     pub fn given(&mut self, texts: &[&str]) {
+        for text in texts {
+            let lower = text.to_lowercase();
+            if let Some(word) = VERDICT_WORDS.iter().find(|w| lower.contains(*w)) {
+                panic!("given text {text:?} states a verdict ({word:?}): claim it instead");
+            }
+        }
         self.given.extend(texts.iter().map(|t| t.to_string()));
+    }
+
+    /// Texts that define a term or the rule (see the module documentation).
+    pub fn defines(&mut self, texts: &[&str]) {
+        self.definitions.extend(texts.iter().map(|t| t.to_string()));
+    }
+
+    /// Makes every verdict word of the prose ([`VERDICT_WORDS`]) need a claim or a definition.
+    pub fn check_verdict_words(&mut self) {
+        self.verdict_words = true;
+    }
+
+    /// The statement `quote` (no braced numbers) is true: `truth`, computed from the data.
+    pub fn holds(&mut self, quote: &str, truth: bool) {
+        self.push(quote, Kind::Holds, vec![f64::from(u8::from(truth))]);
     }
 
     fn push(&mut self, quote: &str, kind: Kind, values: Vec<f64>) {
@@ -166,14 +233,27 @@ impl Claims {
     /// Every failure of the document: claims that do not hold or are not in the prose, given
     /// texts that are not, and numbers of the prose that nothing covers.
     pub fn failures(&self) -> Vec<String> {
+        self.analyse().0
+    }
+
+    /// How the numbers of the document's checked prose are covered.
+    pub fn tally(&self) -> Tally {
+        self.analyse().1
+    }
+
+    /// The failures and the tally (see [`Claims::failures`], [`Tally`]).
+    fn analyse(&self) -> (Vec<String>, Tally) {
         let path = super::root().join(self.document);
         let markdown =
             std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let skipped: Vec<&str> = self.skipped.iter().map(|(h, _)| *h).collect();
         let blocks: Vec<&str> = self.skipped_blocks.iter().map(|(b, _)| *b).collect();
-        let prose = Prose::of(&markdown, &skipped, &blocks, self.only.map(|o| o.0));
+        let prose = Prose::of(&markdown, &[], &blocks, self.only.map(|o| o.0));
         let mut failures = Vec::new();
         let mut covered: Vec<Token> = Vec::new();
+        // The numbers of claims, apart from those of inputs and definitions.
+        let mut claimed: Vec<Token> = Vec::new();
+        // Whole quotes of claims and definitions: where verdict words may stand.
+        let mut stated: Vec<Token> = Vec::new();
         for claim in &self.claims {
             let (plain, marked) = unbrace(&claim.quote);
             let found = prose.occurrences(&plain);
@@ -181,9 +261,13 @@ impl Claims {
                 failures.push(format!("claim not in the prose: {:?}", claim.quote));
                 continue;
             }
+            stated.extend(found.iter().map(|&at| Token {
+                start: at,
+                end: at + plain.len(),
+            }));
             for at in &found {
                 for (start, end, _) in &marked {
-                    covered.push(Token {
+                    claimed.push(Token {
                         start: at + start,
                         end: at + end,
                     });
@@ -206,19 +290,62 @@ impl Claims {
                 }));
             }
         }
+        for text in &self.definitions {
+            let found = prose.occurrences(text);
+            if found.is_empty() {
+                failures.push(format!("definition not in the prose: {text:?}"));
+            }
+            for at in found {
+                stated.push(Token {
+                    start: at,
+                    end: at + text.len(),
+                });
+                covered.extend(numbers_in(text).into_iter().map(|t| Token {
+                    start: at + t.start,
+                    end: at + t.end,
+                }));
+            }
+        }
+        if self.verdict_words {
+            let lower = prose.text.to_lowercase();
+            for word in VERDICT_WORDS {
+                for (at, _) in lower.match_indices(word) {
+                    let inside = |c: &Token| c.start <= at && at + word.len() <= c.end;
+                    if !stated.iter().any(inside) {
+                        failures.push(format!(
+                            "line {}: verdict word {word:?} without a claim: {}",
+                            prose.line(at),
+                            prose.context(Token {
+                                start: at,
+                                end: at + word.len()
+                            })
+                        ));
+                    }
+                }
+            }
+        }
         let tokens = prose.numbers();
+        let mut tally = Tally {
+            total: tokens.len(),
+            ..Tally::default()
+        };
         for (k, token) in tokens.iter().enumerate() {
             let inside = |c: &Token| c.start <= token.start && token.end <= c.end;
-            if covered.iter().any(inside) || is_mesh(&prose.text, &tokens, k) {
-                continue;
+            if claimed.iter().any(inside) {
+                tally.claimed += 1;
+            } else if covered.iter().any(inside) {
+                tally.inputs += 1;
+            } else if is_mesh(&prose.text, &tokens, k) {
+                tally.meshes += 1;
+            } else {
+                failures.push(format!(
+                    "line {}: number without a claim: {}",
+                    prose.line(token.start),
+                    prose.context(*token)
+                ));
             }
-            failures.push(format!(
-                "line {}: number without a claim: {}",
-                prose.line(token.start),
-                prose.context(*token)
-            ));
         }
-        failures
+        (failures, tally)
     }
 
     /// Fails with every failure of the document, one per line.
@@ -276,6 +403,9 @@ fn check(claim: &Claim, marked: &[(usize, usize, String)]) -> Option<String> {
             let s = stated[0].0;
             (values[0] > s).then(|| format!("states at most {s}, the data give {:.6}", values[0]))
         }),
+        Kind::Holds => {
+            expect(0).or_else(|| (values[0] != 1.0).then(|| "the data say it is false".to_string()))
+        }
         Kind::Range => expect(2).or_else(|| {
             let (lo, hi) = super::data::span(values);
             let ((a, ha), (b, hb)) = (stated[0], stated[1]);
@@ -325,5 +455,19 @@ mod tests {
         assert!(claim(Kind::Upper, "within {1} %", &[1.04]).is_some());
         assert!(claim(Kind::Range, "{0.01}–{0.4} %", &[0.4, 0.012, 0.2]).is_none());
         assert!(claim(Kind::Range, "{0.01}–{0.4} %", &[0.5, 0.012]).is_some());
+        assert!(claim(Kind::Holds, "the most", &[1.0]).is_none());
+        assert!(claim(Kind::Holds, "the most", &[0.0]).is_some());
+        assert!(claim(Kind::Holds, "{1} most", &[1.0]).is_some());
+    }
+}
+
+#[cfg(test)]
+mod given_tests {
+    use super::*;
+
+    #[test]
+    #[should_panic(expected = "states a verdict")]
+    fn a_verdict_cannot_be_given() {
+        Claims::new("README.md").given(&["converged to 5 %"]);
     }
 }

@@ -1,7 +1,8 @@
 //! The committed CSVs, read as tables of text cells, and the rows a claim selects from them.
 //!
 //! A selection is written as space-separated terms `column=value` (also `!=`, `<`, `<=`, `>`,
-//! `>=`), plus the shorthand `mesh=argyris:10x7` for `element=argyris nx=10 ny=7`. Cells and
+//! `>=`), plus the shorthand `mesh=argyris:10x7` for `element=argyris nx=10 ny=7` (in a table
+//! without a `mesh` column: the verdicts of the rule name the mesh so). Cells and
 //! values compare as numbers when both parse as numbers (`dt=1e-4` matches `0.0001`), else as
 //! text.
 
@@ -42,7 +43,8 @@ struct Term {
     value: String,
 }
 
-fn terms(selection: &str) -> Vec<Term> {
+/// The terms of `selection`; `mesh=` is expanded unless the table has a `mesh` column.
+fn terms(selection: &str, mesh_column: bool) -> Vec<Term> {
     let mut out = Vec::new();
     for word in selection.split_whitespace() {
         let op = ["!=", "<=", ">=", "=", "<", ">"]
@@ -50,7 +52,7 @@ fn terms(selection: &str) -> Vec<Term> {
             .find(|op| word.contains(op))
             .unwrap_or_else(|| panic!("selection term {word:?}: use column=value"));
         let (column, value) = word.split_once(op).expect("operator");
-        if column == "mesh" {
+        if column == "mesh" && !mesh_column {
             let (element, cells) = value
                 .split_once(':')
                 .unwrap_or_else(|| panic!("{word}: use mesh=ELEMENT:NXxNY"));
@@ -122,7 +124,7 @@ impl Table {
 
     /// The rows that satisfy every term of `selection`.
     pub fn select(&self, selection: &str) -> Vec<Row<'_>> {
-        let terms = terms(selection);
+        let terms = terms(selection, self.has_column("mesh"));
         let columns: Vec<usize> = terms.iter().map(|t| self.column(&t.column)).collect();
         self.rows
             .iter()

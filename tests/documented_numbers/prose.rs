@@ -37,6 +37,12 @@ fn heading(line: &str) -> Option<(usize, &str)> {
     (level > 0 && line[level..].starts_with(' ')).then(|| (level, line[level..].trim()))
 }
 
+/// Whether `line` opens an item of a numbered list: `12. text`.
+fn numbered_item(line: &str) -> bool {
+    let digits = line.bytes().take_while(u8::is_ascii_digit).count();
+    digits > 0 && line[digits..].starts_with(". ")
+}
+
 impl Prose {
     /// The prose of `markdown`, without the sections whose headings are in `skipped` and the
     /// blocks (paragraph, list item, table: up to a blank line, the next list item or heading)
@@ -63,8 +69,10 @@ impl Prose {
                 };
             }
             let outside = only.is_some() && inside.is_none();
-            let block_ends =
-                trimmed.is_empty() || trimmed.starts_with("- ") || heading(line).is_some();
+            let block_ends = trimmed.is_empty()
+                || trimmed.starts_with("- ")
+                || numbered_item(trimmed)
+                || heading(line).is_some();
             if in_block && block_ends {
                 in_block = false;
             }

@@ -14,7 +14,8 @@ pub fn claims() -> Claims {
     );
     c.skip_block(
         "- **Speed**",
-        "µs per step, measured alternated by benches/paper_speed.rs (docs/speed.md), not a study",
+        "µs per step, each one measurement session (docs/speed.md gives its command, rounds, date \
+         and load), with no committed bench record to check it against",
     );
     c.skip_block("| regime |", "the speed table of the bullet above");
     damping::readme(&mut c);

@@ -1,8 +1,10 @@
 //! The runs of a statistics-type study (`statistics.csv`, `damping.csv`) and the definitions its
 //! documents use, restated here from their prose so that a claim computes what the prose says:
-//! two values *agree* within 2σ of their difference; a quantity has *settled* on a mesh from the
-//! largest Δt from which every smaller Δt agrees with the smallest; the *error* of a run against a
-//! reference is |v − v_ref|/|v_ref| with the uncertainty 2·√(σ² + σ_ref²)/|v_ref|.
+//! two values *agree* within 2σ of their difference; the *error* of a run against a reference is
+//! |v − v_ref|/|v_ref| with the uncertainty 2·√(σ² + σ_ref²)/|v_ref|. Where a quantity
+//! *stays within its noise* in Δt on a mesh (every smaller Δt within 2σ of the smallest; no verdict
+//! of convergence) is read from the `_within_noise.csv` the study's write step writes beside its
+//! runs, never computed again here.
 
 use super::data::table;
 
@@ -21,18 +23,25 @@ pub struct Run {
     pub wall_s: f64,
 }
 
-/// Every row of a study's CSV.
+/// Every row of a study's CSV, and where each (scene, quantity, mesh) stays within its noise when
+/// the study writes that (`statistics_within_noise.csv`: the Δt, or empty).
 pub struct Runs {
     pub rows: Vec<Run>,
+    settling: Vec<(String, String, String, Option<f64>)>,
 }
 
 impl Runs {
     /// The rows of the CSV at `path`; with a `damping` column, the scene is `scene/damping`.
     pub fn load(path: &str) -> Runs {
+        Runs::load_where(path, "")
+    }
+
+    /// The rows of the CSV at `path` that `selection` picks (`data::Table::select`).
+    pub fn load_where(path: &str, selection: &str) -> Runs {
         let t = table(path);
         let with_damping = t.has_column("damping");
         let rows = t
-            .select("")
+            .select(selection)
             .iter()
             .map(|r| Run {
                 scene: if with_damping {
@@ -49,7 +58,25 @@ impl Runs {
                 wall_s: r.number("wall_s"),
             })
             .collect();
-        Runs { rows }
+        let beside = path.replace(".csv", "_within_noise.csv");
+        let settling = if super::root().join(&beside).exists() {
+            table(&beside)
+                .select("")
+                .iter()
+                .map(|r| {
+                    let dt = r.text("within_noise_dt");
+                    (
+                        r.text("scene").to_string(),
+                        r.text("quantity").to_string(),
+                        r.text("mesh").to_string(),
+                        (!dt.is_empty()).then(|| r.number("within_noise_dt")),
+                    )
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Runs { rows, settling }
     }
 
     /// The runs of `scene` and `quantity` on `mesh`, by decreasing Δt (a failure when none).
@@ -84,23 +111,20 @@ impl Runs {
             .expect("select returns runs")
     }
 
-    /// The run from which every smaller Δt on the mesh agrees with the smallest-Δt run.
-    pub fn settled(&self, scene: &str, quantity: &str, mesh: &str) -> Option<&Run> {
-        let runs = self.select(scene, quantity, mesh);
-        let last = runs[runs.len() - 1];
-        let mut start = None;
-        for r in runs[..runs.len() - 1].iter().rev() {
-            if !agree(r, last) {
-                break;
-            }
-            start = Some(*r);
-        }
-        start
+    /// The run at the Δt from which the quantity stays within its noise on the mesh, as the
+    /// study's write step found it (`*_within_noise.csv`), or None.
+    pub fn within_noise(&self, scene: &str, quantity: &str, mesh: &str) -> Option<&Run> {
+        let (_, _, _, dt) = self
+            .settling
+            .iter()
+            .find(|(s, q, m, _)| s == scene && q == quantity && m == mesh)
+            .unwrap_or_else(|| panic!("no noise check of {scene} {quantity} on {mesh}"));
+        dt.map(|dt| self.at(scene, quantity, mesh, dt))
     }
 
     /// The runs of the forced scenes' `quantity` on `mesh` whose settling point exists, for
     /// every scene of `scenes` and mesh of `meshes`: (settled run, how many cases were tried).
-    pub fn settling<'a>(
+    pub fn within_noise_cases<'a>(
         &'a self,
         scenes: &[&str],
         quantities: &[&str],
@@ -112,7 +136,7 @@ impl Runs {
             for q in quantities {
                 for m in meshes {
                     tried += 1;
-                    found.extend(self.settled(s, q, m));
+                    found.extend(self.within_noise(s, q, m));
                 }
             }
         }

@@ -3,6 +3,7 @@ around fmpy's FMU2Slave and FMU3Slave."""
 
 import os
 import subprocess
+from ctypes import byref
 
 import pytest
 from fmpy import extract, read_model_description
@@ -16,9 +17,9 @@ from fmpy.fmi2 import (
 )
 from fmpy.fmi3 import FMU3Slave
 from fmpy.logging import addLoggerProxy
-from ctypes import byref
 
 from plateimpact_tools import ROOT, SCENES  # noqa: F401 (the tests' names)
+
 # (start values, stop time) of a shipped scene: the tests' name for the package's reader.
 from plateimpact_tools.scene_values import scene as scene_start_values  # noqa: F401
 
@@ -28,7 +29,26 @@ def pytest_configure(config):
     the 2-core machine). The full suite (`pytest tests/fmu`, scripts/test-all) runs them; a quick
     loop leaves them out with `-m "not slow"`."""
     config.addinivalue_line(
-        "markers", "slow: minutes of FMU runs; the full suite runs it, -m 'not slow' skips it")
+        "markers", "slow: minutes of FMU runs; the full suite runs it, -m 'not slow' skips it"
+    )
+    config.addinivalue_line(
+        "markers",
+        "fmu: needs a packaged FMU (set by the suite on every test that requests one); "
+        "scripts/check runs the others, -m 'not fmu'",
+    )
+
+
+# The fixtures that package or read an FMU: a test that requests one, directly or through another
+# fixture, is marked `fmu`.
+FMU_FIXTURES = {"fmu_path", "fmu3_path"}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Marks every test that needs a packaged FMU `fmu`, so that the tools' own tests (the rule,
+    the study tables, the window statistics) run alone, with `-m 'not fmu'`, in scripts/check."""
+    for item in items:
+        if FMU_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.fmu)
 
 
 @pytest.fixture(scope="session")
@@ -48,7 +68,9 @@ def fmu_path():
 @pytest.fixture(scope="session")
 def fmu3_path(fmu_path):
     """The FMI 3.0 FMU, built with the FMI 2.0 one (or $PLATE_IMPACT_FMU3)."""
-    return os.environ.get("PLATE_IMPACT_FMU3") or str(ROOT / "target" / "fmu" / "PlateImpact-fmi3.fmu")
+    return os.environ.get("PLATE_IMPACT_FMU3") or str(
+        ROOT / "target" / "fmu" / "PlateImpact-fmi3.fmu"
+    )
 
 
 @pytest.fixture(scope="session")
@@ -160,7 +182,9 @@ class Plate:
         self.time += h
 
     def outputs(self):
-        names = [n for n, v in self.variables.items() if v.causality == "output" and v.type == "Real"]
+        names = [
+            n for n, v in self.variables.items() if v.causality == "output" and v.type == "Real"
+        ]
         return self.fmu.getReal([self.vr(n) for n in names])
 
     def errors(self):

@@ -18,12 +18,12 @@ def decode(data):
     (version,) = struct.unpack_from("<I", data, 8)
     assert version == FORMAT_VERSION, version
     (n,) = struct.unpack_from("<H", data, 12)
-    crate_version = data[14:14 + n]
+    crate_version = data[14 : 14 + n]
     (m,) = struct.unpack_from("<Q", data, 14 + n)
     start = 22 + n
-    payload = data[start:start + m]
+    payload = data[start : start + m]
     (checksum,) = struct.unpack_from("<I", data, start + m)
-    assert checksum == zlib.crc32(data[:start + m]), "checksum mismatch"
+    assert checksum == zlib.crc32(data[: start + m]), "checksum mismatch"
     assert len(data) == start + m + 4, "trailing bytes"
     return json.loads(payload), crate_version
 
@@ -31,6 +31,12 @@ def decode(data):
 def encode(payload, crate_version):
     """Serialized state bytes around `payload` (a JSON tree, or JSON text) with a fresh checksum."""
     text = payload if isinstance(payload, str) else json.dumps(payload)
-    body = (MAGIC + struct.pack("<I", FORMAT_VERSION) + struct.pack("<H", len(crate_version)) + crate_version
-            + struct.pack("<Q", len(text.encode())) + text.encode())
+    body = (
+        MAGIC
+        + struct.pack("<I", FORMAT_VERSION)
+        + struct.pack("<H", len(crate_version))
+        + crate_version
+        + struct.pack("<Q", len(text.encode()))
+        + text.encode()
+    )
     return body + struct.pack("<I", zlib.crc32(body))

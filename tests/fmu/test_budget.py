@@ -21,7 +21,13 @@ def test_a_mesh_over_the_memory_budget_is_refused_at_once(new_plate):
     elapsed = time.perf_counter() - start
     assert e.value.status == 3  # fmi2Error
     text = " ".join(p.errors())
-    for words in ("mesh.nx, mesh.ny", "400 × 400", "estimated", "largest part", "memory budget of 4096 MiB"):
+    for words in (
+        "mesh.nx, mesh.ny",
+        "400 × 400",
+        "estimated",
+        "largest part",
+        "memory budget of 4096 MiB",
+    ):
         assert words in text, f"{words!r} not in the log: {p.messages}"
     # Refused from the estimate: assembling this mesh (about 2 million dofs) would take minutes and
     # tens of GiB, the estimate microseconds; 5 s is far above any scheduling delay of a loaded host.

@@ -29,8 +29,11 @@ def c_compiler():
 
 
 def compile_host(output, *extra):
-    done = subprocess.run([c_compiler(), *FLAGS, str(SOURCE), "-o", str(output), *extra],
-                          capture_output=True, text=True)
+    done = subprocess.run(
+        [c_compiler(), *FLAGS, str(SOURCE), "-o", str(output), *extra],
+        capture_output=True,
+        text=True,
+    )
     assert done.returncode == 0, f"compiling {SOURCE.name} {' '.join(extra)}:\n{done.stderr}"
     assert done.stderr == "", f"the compiler printed:\n{done.stderr}"
     return output
@@ -43,9 +46,13 @@ def hosts(unzipdir, tmp_path_factory):
     library_dir = pathlib.Path(unzipdir) / "binaries" / "linux64"
     return {
         "dlopen": compile_host(out / "plate_host_dlopen", "-ldl"),
-        "linked": compile_host(out / "plate_host_linked", "-DPLATE_HOST_LINKED",
-                               f"-L{library_dir}", "-l:PlateImpact.so",
-                               f"-Wl,-rpath,{library_dir}"),
+        "linked": compile_host(
+            out / "plate_host_linked",
+            "-DPLATE_HOST_LINKED",
+            f"-L{library_dir}",
+            "-l:PlateImpact.so",
+            f"-Wl,-rpath,{library_dir}",
+        ),
     }
 
 
@@ -75,8 +82,10 @@ def test_the_c_constants_match_the_model_description(model_description):
             stale.append(f"{constant}: no variable {name} in modelDescription.xml")
             continue
         if (int(vr), kind) != (variable.valueReference, variable.type):
-            stale.append(f"{constant} = {vr} ({kind}) but {name} is {variable.valueReference} "
-                         f"({variable.type}) in modelDescription.xml")
+            stale.append(
+                f"{constant} = {vr} ({kind}) but {name} is {variable.valueReference} "
+                f"({variable.type}) in modelDescription.xml"
+            )
         if constant != "VR_" + name.upper().replace(".", "_"):
             stale.append(f"{constant} is not named after {name}")
     if model_description.guid in text or re.search(r'"\{[0-9a-f-]{36}\}"', text):
@@ -100,5 +109,6 @@ def test_both_c_builds_equal_fmpy_bit_for_bit(hosts, unzipdir, new_plate):
         assert summary.startswith(f"PlateImpact from C ({build}): forced 35 Hz, 1000 steps")
         assert summary.endswith("run restored from t = 0.5 s repeats bit for bit"), summary
         # The deliberately rejected parameter came back through the host's logger callback.
-        assert re.search(r"\[plate\] error logStatusError: fmi2SetReal: .*material\.poisson_ratio",
-                         log), log
+        assert re.search(
+            r"\[plate\] error logStatusError: fmi2SetReal: .*material\.poisson_ratio", log
+        ), log

@@ -27,7 +27,8 @@ import pytest
 
 from conftest import ROOT
 from plateimpact_tools import scene_values, windows
-from plateimpact_tools.converge import cost, runs as converge_runs
+from plateimpact_tools.converge import cost
+from plateimpact_tools.converge import runs as converge_runs
 from plateimpact_tools.converge import study as converge
 
 TOLERANCE = 0.01
@@ -38,16 +39,30 @@ QUANTITIES = ["mean_energy", "rms_corner"]
 
 def study(fmu_path, out, *args):
     """Runs scripts/converge; returns its last stdout line."""
-    command = [str(ROOT / "scripts" / "converge"), "--out", str(out), "--fmu", fmu_path, *WINDOWS,
-               *args]
+    command = [
+        str(ROOT / "scripts" / "converge"),
+        "--out",
+        str(out),
+        "--fmu",
+        fmu_path,
+        *WINDOWS,
+        *args,
+    ]
     done = subprocess.run(command, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     return done.stdout.strip().splitlines()[-1]
 
 
 def damped_args():
-    return [*(a for q in QUANTITIES for a in ("--quantity", q)), "--tolerance", str(TOLERANCE),
-            "--budget-seconds", "60", "--mesh", *DAMPED]
+    return [
+        *(a for q in QUANTITIES for a in ("--quantity", q)),
+        "--tolerance",
+        str(TOLERANCE),
+        "--budget-seconds",
+        "60",
+        "--mesh",
+        *DAMPED,
+    ]
 
 
 def runs(path):
@@ -81,13 +96,22 @@ def test_damped_scene_converges_to_a_finer_reference(fmu_path, local_study):
     dt = float(settings["solver.time_step"])
     scene = scene_values.scene("forced-35hz-damped")[0]
     h = scene["solver.time_step"]
-    scene.update({"mesh.element": 1, "mesh.nx": math.ceil(4 * nx / 3),
-                  "mesh.ny": math.ceil(4 * ny / 3), "solver.time_step": dt / 4})
+    scene.update(
+        {
+            "mesh.element": 1,
+            "mesh.nx": math.ceil(4 * nx / 3),
+            "mesh.ny": math.ceil(4 * ny / 3),
+            "solver.time_step": dt / 4,
+        }
+    )
     assert cost.plate_size(fmu_path, scene)[1] == "modal", scene
     reference = reference_values(fmu_path, scene, h, converge_runs.Start("abrupt"))
     for q in QUANTITIES:
         assert abs(values[q] - reference[q]) <= TOLERANCE * abs(reference[q]), (
-            q, values[q], reference[q])
+            q,
+            values[q],
+            reference[q],
+        )
     assert "one steady state (5 of 5 starts)" in line, line
     assert line.endswith("the FMU does not warn at these settings"), line
 
@@ -95,8 +119,16 @@ def test_damped_scene_converges_to_a_finer_reference(fmu_path, local_study):
 def reference_values(fmu_path, scene, h, start, transient=0.5, window=0.2, count=4):
     """{quantity: value} of one run of `scene` from `start` with the given windows."""
     blob = open(fmu_path, "rb").read()
-    result, _ = converge_runs.run_setting(blob, hashlib.sha256(blob).hexdigest(), scene, start, h,
-                                          round(transient / h), round(window / h), count)
+    result, _ = converge_runs.run_setting(
+        blob,
+        hashlib.sha256(blob).hexdigest(),
+        scene,
+        start,
+        h,
+        round(transient / h),
+        round(window / h),
+        count,
+    )
     return {q: windows.value_and_spread(q, result["windows"][q])[0] for q in result["windows"]}
 
 
@@ -115,9 +147,20 @@ def test_undamped_paper_scene_with_a_small_budget_is_not_converged(fmu_path, tmp
     of per cent at each halving of Δt (docs/accuracy/damping.md), so 3 CPU s (the first three
     settings from five starts cost about that) end the study before any three settings agree.
     The scene has no damping, so the FMU warns at every setting and its warning is the advice."""
-    line = study(fmu_path, tmp_path, "--quantity", "mean_energy", "--quantity", "impact_rate",
-                 "--tolerance", str(TOLERANCE), "--budget-seconds", "3",
-                 "--scene", str(ROOT / "scenes" / "forced-35hz.json"))
+    line = study(
+        fmu_path,
+        tmp_path,
+        "--quantity",
+        "mean_energy",
+        "--quantity",
+        "impact_rate",
+        "--tolerance",
+        str(TOLERANCE),
+        "--budget-seconds",
+        "3",
+        "--scene",
+        str(ROOT / "scenes" / "forced-35hz.json"),
+    )
     assert line.startswith("not converged: "), line
     assert "budget" in line, line
     advice = line.split("advice: ")[1]
@@ -148,13 +191,33 @@ def test_separate_scheduler_and_workers_give_the_local_runs(fmu_path, local_stud
     port = address.rsplit(":", 1)[1]
     processes = []
     try:
-        processes.append(subprocess.Popen(
-            [dask, "scheduler", "--host", "127.0.0.1", "--port", port, "--no-dashboard"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
-        processes.append(subprocess.Popen(
-            [dask, "worker", address, "--nworkers", "2", "--nthreads", "1", "--no-dashboard",
-             "--local-directory", str(tmp_path / "workers")],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
+        processes.append(
+            subprocess.Popen(
+                [dask, "scheduler", "--host", "127.0.0.1", "--port", port, "--no-dashboard"],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                start_new_session=True,
+            )
+        )
+        processes.append(
+            subprocess.Popen(
+                [
+                    dask,
+                    "worker",
+                    address,
+                    "--nworkers",
+                    "2",
+                    "--nthreads",
+                    "1",
+                    "--no-dashboard",
+                    "--local-directory",
+                    str(tmp_path / "workers"),
+                ],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                start_new_session=True,
+            )
+        )
         deadline = time.monotonic() + 120
         while True:  # the scheduler takes a moment to listen
             try:
@@ -191,8 +254,9 @@ def test_a_run_returns_the_fmus_warning(fmu_path):
     for name in ("forced-35hz", "forced-35hz-damped"):
         scene = scene_values.scene(name)[0]
         scene.update({"mesh.element": 1, "mesh.nx": 2, "mesh.ny": 1})
-        result, _ = converge_runs.run_setting(blob, digest, scene, converge_runs.Start("abrupt"),
-                                              scene["solver.time_step"], 0, 1, 2)
+        result, _ = converge_runs.run_setting(
+            blob, digest, scene, converge_runs.Start("abrupt"), scene["solver.time_step"], 0, 1, 2
+        )
         warnings[name] = result["warning"]
     assert warnings["forced-35hz"].startswith("impact statistics may not converge: "), warnings
     assert warnings["forced-35hz-damped"] is None, warnings
@@ -203,8 +267,13 @@ def test_a_run_returns_the_fmus_warning(fmu_path):
 # an impacting and a contact-free response side by side (docs/sweep/). An abrupt start, the sweep
 # from below and the kick settle on two impacts per period (16.07 J), the ramp and the sweep from
 # above on the quiet response (5.58 J), at every Δt from 4e-4 to 2.5e-5 s.
-COEXISTING = ["mesh.nx=4", "mesh.ny=2", "base.amplitude=0.002", "base.frequency=68",
-              "damping.stiffness_proportional=5.9e-5"]
+COEXISTING = [
+    "mesh.nx=4",
+    "mesh.ny=2",
+    "base.amplitude=0.002",
+    "base.frequency=68",
+    "damping.stiffness_proportional=5.9e-5",
+]
 
 
 def test_coexisting_states_are_each_reported_with_their_share(fmu_path, tmp_path):
@@ -212,15 +281,32 @@ def test_coexisting_states_are_each_reported_with_their_share(fmu_path, tmp_path
     with its value and bound; each value agrees within the tolerance (and within its bound plus
     the reference's own error, a quarter of the bound at Δt/4 for an order ≥ 1) with a run at a
     quarter of the recommended Δt from one of its own starts."""
-    line = study(fmu_path, tmp_path, "--quantity", "mean_energy", "--quantity", "rms_corner",
-                 "--tolerance", str(TOLERANCE), "--budget-seconds", "30", *COEXISTING)
+    line = study(
+        fmu_path,
+        tmp_path,
+        "--quantity",
+        "mean_energy",
+        "--quantity",
+        "rms_corner",
+        "--tolerance",
+        str(TOLERANCE),
+        "--budget-seconds",
+        "30",
+        *COEXISTING,
+    )
     assert line.startswith("converged: 2 steady states: A (3 of 5 starts) "), line
     a, b = line.split("; B (2 of 5 starts) ")
     b = b.split("; settings ")[0]
     dt = float(line.split("solver.time_step=")[1].split(";")[0])
-    scene = {"mesh.element": 1, "mesh.nx": 4, "mesh.ny": 2, "base.amplitude": 0.002,
-             "base.frequency": 68.0, "damping.stiffness_proportional": 5.9e-5,
-             "solver.time_step": dt / 4}
+    scene = {
+        "mesh.element": 1,
+        "mesh.nx": 4,
+        "mesh.ny": 2,
+        "base.amplitude": 0.002,
+        "base.frequency": 68.0,
+        "damping.stiffness_proportional": 5.9e-5,
+        "solver.time_step": dt / 4,
+    }
     for part, start in ((a, "abrupt"), (b, "ramp")):
         got = values_of(part, QUANTITIES)
         [made] = converge_runs.starts([start], scene, 0.5)
@@ -243,9 +329,22 @@ def test_the_damped_preset_from_a_coarse_step_is_not_accepted_on_its_plateau(fmu
     within 1 %, which one passing pair used to accept) and then falls towards 8.61 J; the rule
     waits for three settings whose changes shrink. The result agrees within the tolerance with a
     run at Δt = 7.8e-6 s. One start keeps it cheap: the plateau is the ladder's, not a state's."""
-    line = study(fmu_path, tmp_path, "--quantity", "mean_energy", "--tolerance", str(TOLERANCE),
-                 "--budget-seconds", "30", "--starts", "abrupt", "--dt", "1e-3",
-                 "--scene", str(ROOT / "scenes" / "forced-35hz-damped.json"))
+    line = study(
+        fmu_path,
+        tmp_path,
+        "--quantity",
+        "mean_energy",
+        "--tolerance",
+        str(TOLERANCE),
+        "--budget-seconds",
+        "30",
+        "--starts",
+        "abrupt",
+        "--dt",
+        "1e-3",
+        "--scene",
+        str(ROOT / "scenes" / "forced-35hz-damped.json"),
+    )
     assert line.startswith("converged: mean_energy = "), line
     value = values_of(line, ["mean_energy"])["mean_energy"][0]
     dt = float(line.split("solver.time_step=")[1].split(";")[0])
@@ -262,9 +361,23 @@ def test_a_mass_damped_scene_from_a_coarse_step_is_not_converged(fmu_path, tmp_p
     mean energy grows as Δt shrinks (9.5, 9.8, 9.7, 12.3, 12.9, 22.7 … J from Δt = 1e-3 s); one
     passing pair used to accept 9.73 J at 2.5e-4 s. With 5 CPU s it must end not converged, the
     FMU's warning as its advice."""
-    line = study(fmu_path, tmp_path, "--quantity", "mean_energy", "--tolerance", str(TOLERANCE),
-                 "--budget-seconds", "5", "--starts", "abrupt", "--dt", "1e-3",
-                 "base.amplitude=0.009", "base.frequency=35", "damping.mass_proportional=6.76")
+    line = study(
+        fmu_path,
+        tmp_path,
+        "--quantity",
+        "mean_energy",
+        "--tolerance",
+        str(TOLERANCE),
+        "--budget-seconds",
+        "5",
+        "--starts",
+        "abrupt",
+        "--dt",
+        "1e-3",
+        "base.amplitude=0.009",
+        "base.frequency=35",
+        "damping.mass_proportional=6.76",
+    )
     assert line.startswith("not converged: "), line
     assert "advice: the FMU warns at " in line, line
 
@@ -272,16 +385,29 @@ def test_a_mass_damped_scene_from_a_coarse_step_is_not_converged(fmu_path, tmp_p
 def fake_study(values, impacts, starts=("abrupt", "ramp")):
     """A Study of two starts whose Δt ladder 1e-4/2^k holds, per start, the mean energies
     `values[k][start]` (two equal windows: no spread) and impact rates `impacts[k][start]`."""
-    study = converge.Study("no.fmu", {}, ["mean_energy"], TOLERANCE, 1.0, transient=0.0,
-                           window=1e-4, windows=2, dt0=1e-4, mesh=False, start_names=starts,
-                           progress=False)
-    ladder = [(2, 1, 1e-4 / 2 ** k) for k in range(len(values))]
+    study = converge.Study(
+        "no.fmu",
+        {},
+        ["mean_energy"],
+        TOLERANCE,
+        1.0,
+        transient=0.0,
+        window=1e-4,
+        windows=2,
+        dt0=1e-4,
+        mesh=False,
+        start_names=starts,
+        progress=False,
+    )
+    ladder = [(2, 1, 1e-4 / 2**k) for k in range(len(values))]
     for setting, energies, rates in zip(ladder, values, impacts):
         for k, (energy, rate) in enumerate(zip(energies, rates)):
             study.results[setting + (k,)] = {
                 "windows": {q: [1.0, 1.0] for q in windows.QUANTITIES}
                 | {"mean_energy": [energy] * 2, "impact_rate": [rate] * 2},
-                "warning": None, "cpu": 0.0}
+                "warning": None,
+                "cpu": 0.0,
+            }
     return study, ladder
 
 
@@ -299,7 +425,8 @@ def test_each_state_is_judged_on_its_own_ladder():
     study.passes("dt-1", ladder)
     line = study.converged_line(ladder[-1])
     assert line.startswith(
-        "converged: 2 steady states: A (1 of 2 starts) mean_energy = 16.06 J ± "), line
+        "converged: 2 steady states: A (1 of 2 starts) mean_energy = 16.06 J ± "
+    ), line
     assert "; B (1 of 2 starts) mean_energy = 5.575 J ± " in line, line
     study, ladder = fake_study(values, [[136.0, 136.0], [136.0, 0.0], [136.0, 0.0]])
     states, verdicts = study.judge(ladder)
@@ -315,8 +442,19 @@ def test_the_estimate_follows_the_backend(fmu_path):
     than doubles it (set-up and communication steps stay). The windows of the documented
     example: 1 s of transient and 8 of 0.2857 s, read every 1e-4 s. The sizes and backends are
     the FMU's (tests/fmu/test_calculated.py checks them)."""
-    study = converge.Study(fmu_path, {}, ["mean_energy"], TOLERANCE, 120.0, transient=1.0,
-                           window=0.2857, windows=8, dt0=1e-4, mesh=True, progress=False)
+    study = converge.Study(
+        fmu_path,
+        {},
+        ["mean_energy"],
+        TOLERANCE,
+        120.0,
+        transient=1.0,
+        window=0.2857,
+        windows=8,
+        dt0=1e-4,
+        mesh=True,
+        progress=False,
+    )
     for k in range(len(study.starts)):
         study.results[(14, 8, 1e-4, k)] = {"windows": {}, "warning": None, "cpu": 2.0}
     known = (14, 8, 1e-4)
@@ -328,15 +466,17 @@ def test_the_estimate_follows_the_backend(fmu_path):
         return cost.run_cost((study.size((nx, ny, dt))[0], "modal"), 1, dt, sim, h)
 
     assert study.estimate(known, (20, 10, 1e-4)) == pytest.approx(
-        2.0 * modal(20, 10, 1e-4) / modal(14, 8, 1e-4))
+        2.0 * modal(20, 10, 1e-4) / modal(14, 8, 1e-4)
+    )
     above = study.estimate(known, (21, 10, 1e-4))
     (_, _), (step, p) = cost.RUN_COST[(1, "sparse")]
-    sparse = 1e-6 * step * 2.048 ** p * sim / 1e-4 + 1e-6 * cost.COMMUNICATION_STEP_US * sim / h
+    sparse = 1e-6 * step * 2.048**p * sim / 1e-4 + 1e-6 * cost.COMMUNICATION_STEP_US * sim / h
     assert above == pytest.approx(2.0 * sparse / modal(14, 8, 1e-4))
     assert above > 5 * 2.0 * modal(21, 10, 1e-4) / modal(14, 8, 1e-4)
     assert above > 5 * study.estimate(known, (20, 10, 1e-4))
     study.scene["damping.modal_ratio"] = 0.01
     assert study.size((21, 10, 1e-4)) == (2048, "modal")
     assert study.estimate(known, (21, 10, 1e-4)) == pytest.approx(
-        2.0 * modal(21, 10, 1e-4) / modal(14, 8, 1e-4))
+        2.0 * modal(21, 10, 1e-4) / modal(14, 8, 1e-4)
+    )
     assert 1.0 < study.estimate(known, (14, 8, 5e-5)) / 2.0 < 2.0

@@ -1,5 +1,5 @@
 """The numbers docs/converge/README.md and README.md state about the documented example follow
-from its committed output, docs/converge/runs.csv: the rule (plateimpact_tools.converge.rule)
+from its committed output, docs/converge/runs.csv: the rule (plateimpact_tools.rule)
 replayed on the runs' values and spreads gives the verdict line, the error bounds, the ladder
 table and the cost the pages print. No FMU runs: a rerun of the example that moves a number fails
 here until the prose follows."""
@@ -9,7 +9,8 @@ import re
 from collections import defaultdict
 
 from conftest import ROOT
-from plateimpact_tools.converge import rule, states
+from plateimpact_tools import rule
+from plateimpact_tools.converge import states
 from plateimpact_tools.converge.study import refinement_ratio
 
 DOCS = ROOT / "docs" / "converge"
@@ -33,8 +34,10 @@ def example_runs():
     with open(DOCS / "runs.csv") as f:
         for row in csv.DictReader(f):
             setting = (int(row["nx"]), int(row["ny"]), float(row["dt"]))
-            stats[setting][row["start"]][row["quantity"]] = (float(row["value"]),
-                                                             float(row["spread"]))
+            stats[setting][row["start"]][row["quantity"]] = (
+                float(row["value"]),
+                float(row["spread"]),
+            )
             cpu[setting + (row["start"],)] = float(row["cpu_s"])
             simulated.add(float(row["simulated_s"]))
     assert len(simulated) == 1
@@ -76,18 +79,24 @@ def test_the_verdict_and_its_bounds_follow_from_the_runs():
             values, first = judge(stats, DT2_FIRST, q, taken=mesh1)
             assert not first.accepted and first.why == "the error bound exceeds the tolerance"
             own, other = 100 * first.bound / values[-1], 100 * mesh1 / values[-1]
-            claim = (f"the RMS corner's bounds in Δt ({own:.3f} %) and in the mesh "
-                     f"({other:.3f} %) summed to {own + other:.3f} %")
+            claim = (
+                f"the RMS corner's bounds in Δt ({own:.3f} %) and in the mesh "
+                f"({other:.3f} %) summed to {own + other:.3f} %"
+            )
             assert claim in text(DOCS / "README.md"), claim
     per_start, members = one_state(stats, RECOMMENDED)
     values = {q: states.state_value(per_start, members, q)[0] for q in QUANTITIES}
     cost = sum(c for run, c in cpu.items() if run[:3] == RECOMMENDED) / len(members) / simulated
-    line = ("converged: " + ", ".join(
-        f"{q} = {values[q]:.6g} {unit} ± {100 * bounds[q] / values[q]:.2g} %"
-        for q, unit in zip(QUANTITIES, ("J", "m")))
+    line = (
+        "converged: "
+        + ", ".join(
+            f"{q} = {values[q]:.6g} {unit} ± {100 * bounds[q] / values[q]:.2g} %"
+            for q, unit in zip(QUANTITIES, ("J", "m"))
+        )
         + f"; one steady state (5 of 5 starts); settings mesh.element=1 mesh.nx=14 mesh.ny=8 "
         f"solver.time_step=1.25e-05; cost {cost:.3g} CPU s per simulated s; the FMU does not "
-        "warn at these settings")
+        "warn at these settings"
+    )
     for page in (DOCS / "report.md", DOCS / "README.md", ROOT / "README.md"):
         assert line in text(page), (page, line)
     spent = f"spent {sum(cpu.values()):.1f} CPU s in {len(cpu)} runs"
@@ -120,14 +129,23 @@ def test_the_resolved_reference_is_that_of_the_damping_study():
     resolved = {}
     with open(ROOT / "docs" / "accuracy" / "damping.csv") as f:
         for row in csv.DictReader(f):
-            if (row["scene"], row["damping"], row["element"], row["nx"], row["ny"], row["dt"],
-                    row["part"]) == ("forced-35hz", "beta", "argyris", "10", "7", "1e-6", "grid"):
+            if (
+                row["scene"],
+                row["damping"],
+                row["element"],
+                row["nx"],
+                row["ny"],
+                row["dt"],
+                row["part"],
+            ) == ("forced-35hz", "beta", "argyris", "10", "7", "1e-6", "grid"):
                 resolved[row["quantity"]] = float(row["value"])
     energy, corner = resolved["mean_energy_J"], 1e3 * resolved["rms_corner_m"]
     per_start, members = one_state(stats, RECOMMENDED)
     ours = {q: states.state_value(per_start, members, q)[0] for q in QUANTITIES}
     off_energy = 100 * abs(ours["mean_energy"] / resolved["mean_energy_J"] - 1)
     off_corner = 100 * abs(ours["rms_corner"] / resolved["rms_corner_m"] - 1)
-    claim = (f"{energy:.4f} J, {corner:.3f} mm, [../accuracy/damping.md](../accuracy/damping.md)) "
-             f"the recommended values are {off_energy:.3f} % and {off_corner:.3f} % off")
+    claim = (
+        f"{energy:.4f} J, {corner:.3f} mm, [../accuracy/damping.md](../accuracy/damping.md)) "
+        f"the recommended values are {off_energy:.3f} % and {off_corner:.3f} % off"
+    )
     assert claim in text(DOCS / "README.md"), claim

@@ -1,4 +1,4 @@
-"""The convergence rule of scripts/converge (plateimpact_tools.converge.rule) and the grouping of
+"""The convergence rule of scripts/converge (plateimpact_tools.rule) and the grouping of
 runs into steady states (plateimpact_tools.converge.states) on synthetic ladders: no FMU runs.
 
 A ladder is walked as the study walks it: after each refinement the rule judges the last three
@@ -9,7 +9,8 @@ tolerance allows; where it accepts, the printed error bound must contain the tru
 import math
 import random
 
-from plateimpact_tools.converge import rule, states
+from plateimpact_tools import rule
+from plateimpact_tools.converge import states
 
 TOL = 0.01
 
@@ -20,8 +21,13 @@ def first_accepted(values, spreads, ratio=2.0, tolerance=TOL, warned=None):
     observed order in a triple that holds such a setting); default nowhere."""
     warned = warned or [False] * len(values)
     for n in range(2, len(values)):
-        j = rule.judge(values[n - 2:n + 1], spreads[n - 2:n + 1], (ratio, ratio), tolerance,
-                       extrapolate=not any(warned[n - 2:n + 1]))
+        j = rule.judge(
+            values[n - 2 : n + 1],
+            spreads[n - 2 : n + 1],
+            (ratio, ratio),
+            tolerance,
+            extrapolate=not any(warned[n - 2 : n + 1]),
+        )
         if j.accepted:
             return n, j
     return None, None
@@ -45,7 +51,7 @@ def test_the_damped_preset_from_a_coarse_step_does_not_pass_on_its_plateau():
     assert n == 5, (n, j)
     assert abs(values[n] - values[-1]) <= j.bound
     for k in range(n + 1, len(values)):  # and every later setting with the bound it prints
-        j = rule.judge(values[k - 2:k + 1], spreads[k - 2:k + 1], (2, 2), TOL)
+        j = rule.judge(values[k - 2 : k + 1], spreads[k - 2 : k + 1], (2, 2), TOL)
         assert j.accepted and abs(values[k] - values[-1]) <= j.bound
     n, j = first_accepted(values, spreads)
     assert n == 4 and abs(j.order - 3.16) < 0.01 and abs(values[n] - values[-1]) <= j.bound
@@ -75,7 +81,7 @@ def test_a_plateau_then_a_jump_is_refused_until_the_jump_settles():
     next as turning or not shrinking; the first accepted setting lies beyond the jump and its
     bound contains the error."""
     limit = 8.6
-    values = [9.22, 9.22] + [limit + 0.4 * 2.0 ** -k for k in range(8)]
+    values = [9.22, 9.22] + [limit + 0.4 * 2.0**-k for k in range(8)]
     spreads = [1e-4] * len(values)
     j = rule.judge(values[:3], spreads[:3], (2, 2), TOL)
     assert not j.accepted and j.why == "a change after a flat pair"
@@ -114,8 +120,11 @@ def test_slow_drift_is_accepted_only_with_a_bound_that_contains_its_error():
     assert abs(j.order - 0.6) < 1e-6
     assert abs(values[n] - limit) <= j.bound
     # One pair passing at 1 % happens long before: the old rule would have stopped there.
-    early = next(k for k in range(1, len(values)) if rule.pair_passes(
-        values[k - 1], spreads[k - 1], values[k], spreads[k], TOL))
+    early = next(
+        k
+        for k in range(1, len(values))
+        if rule.pair_passes(values[k - 1], spreads[k - 1], values[k], spreads[k], TOL)
+    )
     assert early < n and abs(values[early] - limit) > TOL * limit
 
 
@@ -201,14 +210,17 @@ def test_the_order_solves_unequal_ratios():
     """v = 1 + h^1.7 on cell sizes 1, 1/1.5, 1/(1.5·1.6): the order solved from the two changes
     and the two ratios is 1.7, and log_r(d₁/d₂) for equal ratios."""
     h = [1.0, 1 / 1.5, 1 / 2.4]
-    v = [1 + x ** 1.7 for x in h]
+    v = [1 + x**1.7 for x in h]
     assert abs(rule.observed_order(v[1] - v[0], v[2] - v[1], 1.5, 1.6) - 1.7) < 1e-9
     assert abs(rule.observed_order(0.4, 0.1, 2.0, 2.0) - 2.0) < 1e-9
 
 
 def run(energy, rms, impacts, spread=1e-4):
-    return {"mean_energy": (energy, spread * energy), "rms_corner": (rms, spread * rms),
-            "impact_rate": (impacts, 0.0)}
+    return {
+        "mean_energy": (energy, spread * energy),
+        "rms_corner": (rms, spread * rms),
+        "impact_rate": (impacts, 0.0),
+    }
 
 
 def test_runs_group_into_states_by_impacts_and_values():
@@ -216,8 +228,13 @@ def test_runs_group_into_states_by_impacts_and_values():
     68 Hz), two on a quiet one, the quiet pair 0.02 % apart (within the tolerance): two states,
     the larger named A. A third value 5 % off is a state of its own; so is a run that impacts
     with the quiet run's values."""
-    stats = [run(16.07, 7.42e-3, 136.0), run(5.581, 4.58e-3, 0.0), run(16.07, 7.42e-3, 136.0),
-             run(5.582, 4.58e-3, 0.0), run(16.07, 7.42e-3, 136.0)]
+    stats = [
+        run(16.07, 7.42e-3, 136.0),
+        run(5.581, 4.58e-3, 0.0),
+        run(16.07, 7.42e-3, 136.0),
+        run(5.582, 4.58e-3, 0.0),
+        run(16.07, 7.42e-3, 136.0),
+    ]
     found = states.group(stats, ["mean_energy", "rms_corner", "impact_rate"], TOL)
     assert [(s.name, s.starts) for s in found] == [("A", [0, 2, 4]), ("B", [1, 3])]
     value, spread = states.state_value(stats, [1, 3], "mean_energy")

@@ -9,7 +9,9 @@ from conftest import ROOT
 
 
 def load_example():
-    spec = importlib.util.spec_from_file_location("shaker_coupling", ROOT / "examples" / "shaker_coupling.py")
+    spec = importlib.util.spec_from_file_location(
+        "shaker_coupling", ROOT / "examples" / "shaker_coupling.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -49,7 +51,10 @@ def test_the_iterated_mean_force_coupling_is_second_order(fmu_path):
     assert residuals[0] > 3 * residuals[1], residuals
     _, instantaneous = example.run(5e-4, 0.3, fmu_path, "instantaneous")
     # Measured 0.80 J.
-    assert residuals[1] < 0.25 * abs(instantaneous["residual"]), (residuals, instantaneous["residual"])
+    assert residuals[1] < 0.25 * abs(instantaneous["residual"]), (
+        residuals,
+        instantaneous["residual"],
+    )
 
 
 def test_the_first_moment_of_the_force_cuts_the_iterated_residual(fmu_path):
@@ -64,4 +69,7 @@ def test_the_first_moment_of_the_force_cuts_the_iterated_residual(fmu_path):
     # Measured 8.6 fixed-point steps on average, 12 at most.
     assert moments["iterations"][0] <= 15
     # Measured 0.072 J against 0.50 J (0.14 of it).
-    assert abs(moments["residual"]) < 0.3 * abs(iterated["residual"]), (moments["residual"], iterated["residual"])
+    assert abs(moments["residual"]) < 0.3 * abs(iterated["residual"]), (
+        moments["residual"],
+        iterated["residual"],
+    )

@@ -39,9 +39,11 @@ def test_the_energy_balance_holds_between_communication_points(new_plate, steps,
     flows = (base - base[0]) + (load - load[0]) - (contact - contact[0]) - (damping - damping[0])
     scale = np.max(np.abs(energy))
     residual = np.max(np.abs(change - flows)) / scale
-    print(f"{steps} h, {'damped' if damped else 'undamped'}: worst balance residual {residual:.2e} of the "
-          f"energy scale {scale:.2f} J; base work {base[-1]:.2f} J, load work {load[-1]:.3f} J, "
-          f"contact loss {contact[-1]:.2f} J, damping loss {damping[-1]:.2f} J")
+    print(
+        f"{steps} h, {'damped' if damped else 'undamped'}: worst balance residual {residual:.2e} of the "
+        f"energy scale {scale:.2f} J; base work {base[-1]:.2f} J, load work {load[-1]:.3f} J, "
+        f"contact loss {contact[-1]:.2f} J, damping loss {damping[-1]:.2f} J"
+    )
     # The scheme's identity holds per internal step to round-off (measured 1e-13 of the scale over
     # 5000 steps of the modal backend, the library's tests assert 1e-12), and the interpolation
     # between grid points is linear, so it carries over: 1e-11 leaves a factor 100 for the sums'
@@ -70,13 +72,17 @@ def test_no_impact_is_lost_between_communication_points(new_plate):
     assert np.all(rows[:, 0] <= 1)
     for name, sizes in [("coarse", [1e-2] * 100), ("random", adaptive_steps(6, 1.0))]:
         other = contact_totals(new_plate, sizes, name)
-        print(f"{name}: {other[0]} impacts, impulse {other[1]:.6e} N s, peak {other[2]:.1f} N; "
-              f"0.1 ms steps: {impacts}, {impulse:.6e} N s, {peak:.1f} N")
+        print(
+            f"{name}: {other[0]} impacts, impulse {other[1]:.6e} N s, peak {other[2]:.1f} N; "
+            f"0.1 ms steps: {impacts}, {impulse:.6e} N s, {peak:.1f} N"
+        )
         assert other[0] == impacts, name
         # The same terms summed in groups of another size: round-off only.
         assert abs(other[1] - impulse) <= 1e-9 * abs(impulse), name
         assert other[2] == peak, name
-        assert np.max(other[3][:, 0]) > 1 or name == "random", "10 ms steps must hold several impacts"
+        assert np.max(other[3][:, 0]) > 1 or name == "random", (
+            "10 ms steps must hold several impacts"
+        )
 
 
 def ramp_run(plate, version, sizes, x0, slope):
@@ -102,8 +108,9 @@ def ramp_run(plate, version, sizes, x0, slope):
 @pytest.mark.parametrize("steps", ["fixed", "random"])
 @pytest.mark.parametrize("damped", [False, True], ids=["undamped", "damped"])
 @pytest.mark.parametrize("version", [2, 3], ids=["fmi2", "fmi3"])
-def test_the_mean_force_times_the_base_displacement_is_the_base_work(new_plate, new_plate3, version, damped,
-                                                                      steps):
+def test_the_mean_force_times_the_base_displacement_is_the_base_work(
+    new_plate, new_plate3, version, damped, steps
+):
     """base.mean_force (docs/fmu.md, "Coupling both ways"): with the base moving at one velocity s,
     the base work over every communication step is -base.mean_force * s h, to round-off, on the
     grid (0.3 ms steps) and between grid points (random steps of 0.2 to 1.5 ms), with impacts
@@ -124,8 +131,10 @@ def test_the_mean_force_times_the_base_displacement_is_the_base_work(new_plate, 
     skip = 1 if version == 2 else 3
     scale = max(np.max(np.abs(work)), np.max(np.abs(s * np.cumsum(mean_force[1:] * np.diff(t)))))
     worst = np.max(np.abs(residual[skip:])) / scale
-    print(f"FMI {version}, {steps} h, {'damped' if damped else 'undamped'}: {int(impacts.sum())} impacts, worst "
-          f"|dW + F_mean dz| {worst:.1e} of the scale {scale:.3f} J; |F_mean| up to {np.max(np.abs(mean_force)):.0f} N")
+    print(
+        f"FMI {version}, {steps} h, {'damped' if damped else 'undamped'}: {int(impacts.sum())} impacts, worst "
+        f"|dW + F_mean dz| {worst:.1e} of the scale {scale:.3f} J; |F_mean| up to {np.max(np.abs(mean_force)):.0f} N"
+    )
     # The library's tests bound the round-off at 1e-12 of the scale (measured 2e-14): the same here.
     assert worst <= 1e-12
     assert impacts.sum() >= 3, "the plate must hit the obstacle"
@@ -146,4 +155,6 @@ def test_the_mean_force_is_the_impulse_over_the_step(new_plate):
     # The same terms summed in groups of another size, then divided by h: round-off only.
     assert np.max(np.abs(grouped - c[:, 0])) <= 1e-9 * scale
     assert np.array_equal(f[9::10, 1], c[:, 1]), "base.force is the last internal step's"
-    assert np.max(np.abs(c[:, 1] - c[:, 0])) > 0.1 * scale, "the instantaneous force is an aliased sample"
+    assert np.max(np.abs(c[:, 1] - c[:, 0])) > 0.1 * scale, (
+        "the instantaneous force is an aliased sample"
+    )

@@ -26,11 +26,19 @@ def pair(ratio, low, high):
 def test_the_description_declares_the_damping_variables(model_description, model_description3):
     for md in (model_description, model_description3):
         by_name = {v.name: v for v in md.modelVariables}
-        for name, unit in [("damping.ratio", "1"), ("damping.frequency_low", "Hz"),
-                           ("damping.frequency_high", "Hz"), ("damping.modal_ratio", "1")]:
+        for name, unit in [
+            ("damping.ratio", "1"),
+            ("damping.frequency_low", "Hz"),
+            ("damping.frequency_high", "Hz"),
+            ("damping.modal_ratio", "1"),
+        ]:
             v = by_name[name]
             assert (v.causality, v.variability, float(v.start), v.min) == (
-                "parameter", "fixed", 0.0, "0"), name
+                "parameter",
+                "fixed",
+                0.0,
+                "0",
+            ), name
             assert v.unit == unit, name
         for name, unit in [("damping.alpha", "1/s"), ("damping.beta", "s")]:
             v = by_name[name]
@@ -40,8 +48,12 @@ def test_the_description_declares_the_damping_variables(model_description, model
 @pytest.mark.parametrize("version", [2, 3])
 def test_the_ratio_pair_is_readable_as_alpha_and_beta(new_plate, new_plate3, version):
     p = new_plate() if version == 2 else new_plate3()
-    for name, value in {**SMALL, "damping.ratio": 0.01, "damping.frequency_low": 53.83,
-                        "damping.frequency_high": 5000.0}.items():
+    for name, value in {
+        **SMALL,
+        "damping.ratio": 0.01,
+        "damping.frequency_low": 53.83,
+        "damping.frequency_high": 5000.0,
+    }.items():
         p.set(name, value)
     if version == 2:
         p.fmu.setupExperiment(startTime=0.0)
@@ -58,11 +70,17 @@ def test_the_ratio_pair_is_readable_as_alpha_and_beta(new_plate, new_plate3, ver
     assert p.get("energy.damping_loss") >= 0.0
 
 
-@pytest.mark.parametrize("explicit", ["damping.mass_proportional", "damping.stiffness_proportional"])
+@pytest.mark.parametrize(
+    "explicit", ["damping.mass_proportional", "damping.stiffness_proportional"]
+)
 def test_a_pair_with_an_explicit_coefficient_is_refused_naming_both(new_plate, explicit):
     p = new_plate()
-    for name, value in {"damping.ratio": 0.01, "damping.frequency_low": 50.0,
-                        "damping.frequency_high": 5000.0, explicit: 1e-6}.items():
+    for name, value in {
+        "damping.ratio": 0.01,
+        "damping.frequency_low": 50.0,
+        "damping.frequency_high": 5000.0,
+        explicit: 1e-6,
+    }.items():
         p.set(name, value)
     p.fmu.setupExperiment(startTime=0.0)
     p.fmu.enterInitializationMode()
@@ -76,10 +94,22 @@ def test_a_pair_with_an_explicit_coefficient_is_refused_naming_both(new_plate, e
     "values,name",
     [
         ({"damping.ratio": 0.01, "damping.frequency_high": 100.0}, "damping.frequency_low"),
-        ({"damping.ratio": 0.01, "damping.frequency_low": 100.0, "damping.frequency_high": 100.0},
-         "damping.frequency_high"),
-        ({"damping.ratio": 0.01, "damping.frequency_low": 200.0, "damping.frequency_high": 100.0},
-         "damping.frequency_high"),
+        (
+            {
+                "damping.ratio": 0.01,
+                "damping.frequency_low": 100.0,
+                "damping.frequency_high": 100.0,
+            },
+            "damping.frequency_high",
+        ),
+        (
+            {
+                "damping.ratio": 0.01,
+                "damping.frequency_low": 200.0,
+                "damping.frequency_high": 100.0,
+            },
+            "damping.frequency_high",
+        ),
     ],
 )
 def test_inconsistent_frequencies_are_refused_by_name(new_plate, values, name):
@@ -93,8 +123,10 @@ def test_inconsistent_frequencies_are_refused_by_name(new_plate, values, name):
     assert name in " ".join(p.errors()), p.messages
 
 
-@pytest.mark.parametrize("name", ["damping.ratio", "damping.frequency_low", "damping.frequency_high",
-                                  "damping.modal_ratio"])
+@pytest.mark.parametrize(
+    "name",
+    ["damping.ratio", "damping.frequency_low", "damping.frequency_high", "damping.modal_ratio"],
+)
 def test_negative_values_are_refused_at_once(new_plate, name):
     p = new_plate()
     with pytest.raises(FMICallException):
@@ -119,7 +151,8 @@ def warnings(p):
 
 @pytest.mark.parametrize("version", [2, 3])
 def test_the_warning_is_logged_for_the_paper_scene_and_not_for_the_damped_preset(
-        new_plate, new_plate3, version):
+    new_plate, new_plate3, version
+):
     make = new_plate if version == 2 else new_plate3
     forced = make().initialize(scene_start_values("forced-35hz")[0])
     logged = warnings(forced)

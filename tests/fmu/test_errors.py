@@ -17,7 +17,17 @@ def expect_error(plate, call, *words):
 
 
 @pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
-@pytest.mark.parametrize("name", ["plate.length", "material.poisson_ratio", "solver.time_step", "obstacle.lower", "load.pressure", "base.amplitude"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "plate.length",
+        "material.poisson_ratio",
+        "solver.time_step",
+        "obstacle.lower",
+        "load.pressure",
+        "base.amplitude",
+    ],
+)
 def test_non_finite_parameters(new_plate, name, value):
     p = new_plate()
     expect_error(p, lambda: p.set(name, value), name)

@@ -13,8 +13,8 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi3 import fmi3FMUState
 from fmpy.validation import validate_fmu
 
-from conftest import SCENES, scene_start_values
 import fmu_state
+from conftest import SCENES, scene_start_values
 
 SCENE_NAMES = sorted(p.stem for p in SCENES.glob("*.json"))
 STEP = 1e-3
@@ -30,7 +30,11 @@ def test_package_and_description(fmu3_path, model_description3):
     cs = md.coSimulation
     assert md.fmiVersion == "3.0" and cs.modelIdentifier == "PlateImpact"
     assert cs.mightReturnEarlyFromDoStep and not cs.hasEventMode
-    assert cs.canHandleVariableCommunicationStepSize and cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
+    assert (
+        cs.canHandleVariableCommunicationStepSize
+        and cs.canGetAndSetFMUstate
+        and cs.canSerializeFMUstate
+    )
     # The internal step is the parameter solver.time_step: no constant may claim otherwise.
     assert cs.fixedInternalStepSize is None and int(cs.maxOutputDerivativeOrder) == 1
     field = next(v for v in md.modelVariables if v.name == "plate.displacement")
@@ -44,15 +48,25 @@ def test_both_fmus_declare_the_same_variables(model_description, model_descripti
     for v in model_description.modelVariables:
         w = three[v.name]
         assert (w.valueReference, w.type, w.causality, w.variability) == (
-            v.valueReference, types[v.type], v.causality, v.variability), v.name
+            v.valueReference,
+            types[v.type],
+            v.causality,
+            v.variability,
+        ), v.name
         assert (w.start, w.min, w.max, w.unit) == (v.start, v.min, v.max, v.unit), v.name
     assert model_description.coSimulation.maxOutputDerivativeOrder == 1
 
 
 def run(path, scene_values, stop, **options):
     outputs = [v.name for v in REFERENCE_OUTPUTS]
-    return simulate_fmu(path, stop_time=stop, output_interval=STEP, start_values=scene_values,
-                        output=outputs, **options)
+    return simulate_fmu(
+        path,
+        stop_time=stop,
+        output_interval=STEP,
+        start_values=scene_values,
+        output=outputs,
+        **options,
+    )
 
 
 class _Output:
@@ -61,11 +75,28 @@ class _Output:
 
 
 # Every scalar output of both FMUs.
-REFERENCE_OUTPUTS = [_Output(n) for n in [
-    "corner1.displacement", "corner2.displacement", "edge_mid.displacement", "energy.kinetic",
-    "energy.elastic", "energy.total", "contact.active_nodes", "contact.force", "base.force",
-    "energy.base_work", "energy.load_work", "energy.contact_loss", "energy.damping_loss",
-    "contact.impacts", "contact.impulse", "contact.peak_force", "base.mean_force"]]
+REFERENCE_OUTPUTS = [
+    _Output(n)
+    for n in [
+        "corner1.displacement",
+        "corner2.displacement",
+        "edge_mid.displacement",
+        "energy.kinetic",
+        "energy.elastic",
+        "energy.total",
+        "contact.active_nodes",
+        "contact.force",
+        "base.force",
+        "energy.base_work",
+        "energy.load_work",
+        "energy.contact_loss",
+        "energy.damping_loss",
+        "contact.impacts",
+        "contact.impulse",
+        "contact.peak_force",
+        "base.mean_force",
+    ]
+]
 
 
 @pytest.mark.parametrize("scene", SCENE_NAMES)
@@ -96,8 +127,10 @@ def test_the_input_path_is_the_same(fmu_path, fmu3_path):
     """A sampled base.displacement, interpolated within each step by the same rule (FMI 3.0 has no
     fmi2SetRealInputDerivatives: the slope is the backward difference of the samples in both)."""
     t = np.arange(0.0, 0.3 + STEP / 2, STEP)
-    signal = np.array(list(zip(t, 0.003 * np.sin(2 * math.pi * 23.0 * t) * (1 + 3 * t))),
-                      dtype=[("time", np.float64), ("base.displacement", np.float64)])
+    signal = np.array(
+        list(zip(t, 0.003 * np.sin(2 * math.pi * 23.0 * t) * (1 + 3 * t))),
+        dtype=[("time", np.float64), ("base.displacement", np.float64)],
+    )
     two = run(fmu_path, {}, 0.3, input=signal)
     three = run(fmu3_path, {}, 0.3, input=signal)
     for output in REFERENCE_OUTPUTS:
@@ -108,8 +141,13 @@ def test_the_input_path_is_the_same(fmu_path, fmu3_path):
 def impact_times(fmu_path, stop):
     """The grid times of the impacts of forced-35hz: an FMI 2.0 run at every internal step."""
     values, _ = scene_start_values("forced-35hz")
-    fine = simulate_fmu(fmu_path, stop_time=stop, output_interval=1e-4, start_values=values,
-                        output=["contact.impacts"])
+    fine = simulate_fmu(
+        fmu_path,
+        stop_time=stop,
+        output_interval=1e-4,
+        start_values=values,
+        output=["contact.impacts"],
+    )
     return fine["time"][fine["contact.impacts"] > 0]
 
 
@@ -132,13 +170,23 @@ def test_early_return_gives_a_point_at_every_impact(fmu_path, fmu3_path):
     assert np.count_nonzero(~on_regular) > 20
     regular = np.isin(np.round(times / STEP, 6), np.round(plain["time"] / STEP, 6))
     assert regular.sum() == len(plain)
-    for name in ["corner1.displacement", "edge_mid.displacement", "energy.total", "base.force",
-                 "contact.active_nodes", "contact.force", "energy.contact_loss"]:
+    for name in [
+        "corner1.displacement",
+        "edge_mid.displacement",
+        "energy.total",
+        "base.force",
+        "contact.active_nodes",
+        "contact.force",
+        "energy.contact_loss",
+    ]:
         assert early[name][regular].tobytes() == plain[name].tobytes(), name
     assert early["contact.impacts"].sum() == plain["contact.impacts"].sum() == len(impacts)
     # The same terms of Σ F Δt summed in other groups: round-off of the sum only.
     total = plain["contact.impulse"].sum()
-    assert abs(early["contact.impulse"].sum() - total) <= 1e-12 * np.abs(plain["contact.impulse"]).sum()
+    assert (
+        abs(early["contact.impulse"].sum() - total)
+        <= 1e-12 * np.abs(plain["contact.impulse"]).sum()
+    )
 
 
 def test_step_by_step_early_return(new_plate3, fmu_path):
@@ -164,8 +212,12 @@ def test_step_by_step_early_return(new_plate3, fmu_path):
             assert seen == []
 
 
-CONTACT_FREE = {"base.amplitude": 0.002, "base.frequency": 35.0,
-                "obstacle.lower_enabled": False, "obstacle.upper_enabled": False}
+CONTACT_FREE = {
+    "base.amplitude": 0.002,
+    "base.frequency": 35.0,
+    "obstacle.lower_enabled": False,
+    "obstacle.upper_enabled": False,
+}
 DISPLACEMENTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement"]
 
 
@@ -208,9 +260,15 @@ def test_output_derivatives_converge_to_the_velocity(new_plate3):
     own flexible velocity, measured below 1.5e-6 m/s, and the error halves with Δt."""
     c, f = 0.002, 10.0
     w = 2 * math.pi * f
-    rigid = {"base.amplitude": c, "base.frequency": f, "obstacle.lower_enabled": False,
-             "obstacle.upper_enabled": False, "material.young_modulus": 1e13,
-             "plate.thickness": 0.1, "damping.stiffness_proportional": 1e-4}
+    rigid = {
+        "base.amplitude": c,
+        "base.frequency": f,
+        "obstacle.lower_enabled": False,
+        "obstacle.upper_enabled": False,
+        "material.young_modulus": 1e13,
+        "plate.thickness": 0.1,
+        "damping.stiffness_proportional": 1e-4,
+    }
     errors = {}
     for dt in (1e-4, 5e-5):
         times, measured = rates(new_plate3, dict(rigid, **{"solver.time_step": dt}), 0.1, 1e-3)
@@ -228,8 +286,13 @@ def test_fmpy_records_the_field(fmu3_path):
     along y; its free corners are the corner outputs, its clamp column the base sine, every
     vertex within the obstacles."""
     stop = 0.2
-    result = simulate_fmu(fmu3_path, stop_time=stop, output_interval=STEP, start_values=FORCED,
-                          output=["plate.displacement", "corner1.displacement", "corner2.displacement"])
+    result = simulate_fmu(
+        fmu3_path,
+        stop_time=stop,
+        output_interval=STEP,
+        start_values=FORCED,
+        output=["plate.displacement", "corner1.displacement", "corner2.displacement"],
+    )
     field = result["plate.displacement"]
     assert field.shape == (round(stop / STEP) + 1, 8, 11)
     # Two functionals of the same field (vertex value, point evaluation): round-off of 9 mm.
@@ -250,7 +313,9 @@ def test_configuration_mode_resizes_the_field(new_plate3):
     plate = new_plate3("unsized").initialize(mesh)
     with pytest.raises(FMICallException):
         plate.get("plate.displacement")
-    assert any("mesh.vertex_rows = 8" in m and "[11, 15]" in m for m in plate.errors()), plate.messages
+    assert any("mesh.vertex_rows = 8" in m and "[11, 15]" in m for m in plate.errors()), (
+        plate.messages
+    )
     plate = new_plate3("sized")
     plate.fmu.enterConfigurationMode()
     plate.fmu.setUInt64([plate.vr("mesh.vertex_rows"), plate.vr("mesh.vertex_columns")], [11, 15])
@@ -286,6 +351,7 @@ def deserialized(plate, data):
 def test_fmu_state_round_trips(new_plate3):
     """Get/set and serialize into a fresh instance: the run continues bit for bit; the bytes have
     the FMI 2.0 layout with the sizes of the structural parameters; corrupt bytes are refused."""
+
     def run(plate, steps):
         out = []
         for k in range(steps):
@@ -324,17 +390,28 @@ def test_the_interface_types_not_offered_are_refused_with_a_message(fmu3_path, t
     with zipfile.ZipFile(fmu3_path) as z:
         z.extract("binaries/x86_64-linux/PlateImpact.so", tmp_path)
     lib = ctypes.CDLL(str(tmp_path / "binaries" / "x86_64-linux" / "PlateImpact.so"))
-    logger_type = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p,
-                                   ctypes.c_char_p)
+    logger_type = ctypes.CFUNCTYPE(
+        None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p
+    )
     logged = []
-    logger = logger_type(lambda _env, status, category, message: logged.append(
-        (status, category.decode(), message.decode())))
-    for name, callbacks in [("fmi3InstantiateModelExchange", []),
-                            ("fmi3InstantiateScheduledExecution", [None, None, None])]:
+    logger = logger_type(
+        lambda _env, status, category, message: logged.append(
+            (status, category.decode(), message.decode())
+        )
+    )
+    for name, callbacks in [
+        ("fmi3InstantiateModelExchange", []),
+        ("fmi3InstantiateScheduledExecution", [None, None, None]),
+    ]:
         function = getattr(lib, name)
         function.restype = ctypes.c_void_p
         logged.clear()
         assert function(b"refused", b"token", None, False, False, None, logger, *callbacks) is None
-        assert logged == [(3, "logStatusError", f"{name}: this FMU supports Co-Simulation only "
-                                                "(fmi3InstantiateCoSimulation)")]
+        assert logged == [
+            (
+                3,
+                "logStatusError",
+                f"{name}: this FMU supports Co-Simulation only (fmi3InstantiateCoSimulation)",
+            )
+        ]
         assert function(b"refused", b"token", None, False, False, None, None, *callbacks) is None

@@ -40,8 +40,14 @@ C_TO_RUST = {
     "float": "f32",
     "bool": "bool",
     "size_t": "usize",
-    "int8_t": "i8", "uint8_t": "u8", "int16_t": "i16", "uint16_t": "u16",
-    "int32_t": "i32", "uint32_t": "u32", "int64_t": "i64", "uint64_t": "u64",
+    "int8_t": "i8",
+    "uint8_t": "u8",
+    "int16_t": "i16",
+    "uint16_t": "u16",
+    "int32_t": "i32",
+    "uint32_t": "u32",
+    "int64_t": "i64",
+    "uint64_t": "u64",
     "enum": "core::ffi::c_int",
     "fmi2CallbackFunctions": "plate_impact::fmi::fmi2::exports::fmi2CallbackFunctions",
 }
@@ -60,19 +66,21 @@ class Header:
     """The typedefs of one FMI version's headers, as Rust types."""
 
     def __init__(self, texts):
-        self.aliases = {}       # typedef name -> C declaration text it stands for
-        self.pointers = {}      # function-pointer typedef name -> (ret, params)
-        self.functions = {}     # fmiXxxTYPE name -> (ret, params)
+        self.aliases = {}  # typedef name -> C declaration text it stands for
+        self.pointers = {}  # function-pointer typedef name -> (ret, params)
+        self.functions = {}  # fmiXxxTYPE name -> (ret, params)
         text = without_comments("\n".join(texts))
         for name in re.findall(r"typedef\s+enum\s*\{[^}]*\}\s*(\w+)\s*;", text):
             self.aliases[name] = "enum"
         for name in re.findall(r"typedef\s+struct\s*\{[^}]*\}\s*(\w+)\s*;", text):
             self.aliases[name] = name
         for ret, name, params in re.findall(
-                r"typedef\s+([\w\s\*]+?)\s*\(\s*\*\s*(\w+)\s*\)\s*\(([^)]*)\)\s*;", text):
+            r"typedef\s+([\w\s\*]+?)\s*\(\s*\*\s*(\w+)\s*\)\s*\(([^)]*)\)\s*;", text
+        ):
             self.pointers[name] = (ret, params)
         for ret, name, params in re.findall(
-                r"typedef\s+([\w\s\*]+?)\s*\b(\w+TYPE)\s*\(([^)]*)\)\s*;", text):
+            r"typedef\s+([\w\s\*]+?)\s*\b(\w+TYPE)\s*\(([^)]*)\)\s*;", text
+        ):
             self.functions[name] = (ret, params)
         for decl, name in re.findall(r"typedef\s+([\w\s\*]+?)\s*\b(\w+)\s*;", text):
             self.aliases.setdefault(name, decl.strip())
@@ -103,7 +111,7 @@ class Header:
             words.append(tokens.pop(0))
         const = "const" in words
         words = [w for w in words if w != "const"]
-        if not self.known(words):   # the last word is the parameter's name
+        if not self.known(words):  # the last word is the parameter's name
             words.pop()
         rust = self.base(words)
         for token in tokens:
@@ -133,8 +141,10 @@ class Header:
 
 
 def header_texts(version):
-    names = {2: ["fmi2TypesPlatform.h", "fmi2FunctionTypes.h"],
-             3: ["fmi3PlatformTypes.h", "fmi3FunctionTypes.h"]}[version]
+    names = {
+        2: ["fmi2TypesPlatform.h", "fmi2FunctionTypes.h"],
+        3: ["fmi3PlatformTypes.h", "fmi3FunctionTypes.h"],
+    }[version]
     return [(HEADERS / name).read_text() for name in names]
 
 
@@ -166,12 +176,19 @@ def rust_check(texts2, texts3):
 def rlib(fmu_path):
     """The crate's rlib and its dependency directory, as `cargo build --release --lib` leaves
     them (the FMU fixture has built them already, so this is a no-op build)."""
-    out = subprocess.run(["cargo", "build", "--release", "--lib", "--message-format=json"],
-                         cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        ["cargo", "build", "--release", "--lib", "--message-format=json"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     for line in out.splitlines():
         message = json.loads(line)
-        if message.get("reason") == "compiler-artifact" and \
-                message["target"]["name"] == "plate_impact":
+        if (
+            message.get("reason") == "compiler-artifact"
+            and message["target"]["name"] == "plate_impact"
+        ):
             rlibs = [f for f in message["filenames"] if f.endswith(".rlib")]
             if rlibs:
                 return pathlib.Path(rlibs[0])
@@ -183,11 +200,30 @@ def compile_check(source, rlib, tmp_path):
     path.write_text(source)
     # The rustc of $RUSTC or the toolchain rustup picks in the crate, as cargo's was.
     return subprocess.run(
-        [os.environ.get("RUSTC", "rustc"), "--edition", "2021", "--crate-type", "lib", "--crate-name", "fmi_abi",
-         "--emit", "metadata", "-o", str(tmp_path / "libfmi_abi.rmeta"),
-         "--extern", f"plate_impact={rlib}", "-L", f"dependency={rlib.parent / 'deps'}",
-         "-L", f"dependency={rlib.parent}", str(path)],
-        cwd=ROOT, capture_output=True, text=True)
+        [
+            os.environ.get("RUSTC", "rustc"),
+            "--edition",
+            "2021",
+            "--crate-type",
+            "lib",
+            "--crate-name",
+            "fmi_abi",
+            "--emit",
+            "metadata",
+            "-o",
+            str(tmp_path / "libfmi_abi.rmeta"),
+            "--extern",
+            f"plate_impact={rlib}",
+            "-L",
+            f"dependency={rlib.parent / 'deps'}",
+            "-L",
+            f"dependency={rlib.parent}",
+            str(path),
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
 
 
 @pytest.mark.parametrize("version,count", [(2, 34), (3, 75)])
@@ -197,8 +233,9 @@ def test_every_function_of_the_header_is_exported(version, count, unzipdir, unzi
     # FMI 2.0 and FMI 3.0 name the platform directory differently.
     fmu, platform = (unzipdir, "linux64") if version == 2 else (unzipdir3, "x86_64-linux")
     library = pathlib.Path(fmu) / "binaries" / platform / "PlateImpact.so"
-    symbols = subprocess.run(["nm", "-D", "--defined-only", str(library)], capture_output=True,
-                             text=True, check=True).stdout
+    symbols = subprocess.run(
+        ["nm", "-D", "--defined-only", str(library)], capture_output=True, text=True, check=True
+    ).stdout
     exported = set(re.findall(rf"\bT (fmi{version}\w+)$", symbols, re.M))
     assert exported == names, sorted(names ^ exported)
 
@@ -218,14 +255,20 @@ def test_every_signature_is_the_headers(rlib, tmp_path):
 def test_the_callback_struct_has_the_c_size(rlib, tmp_path):
     """fmi2CallbackFunctions is mapped by name: its Rust size is the C compiler's."""
     program = tmp_path / "size.c"
-    program.write_text('#include <stdio.h>\n#include "fmi2Functions.h"\n'
-                       'int main(void) { printf("%zu", sizeof(fmi2CallbackFunctions)); }\n')
-    subprocess.run([c_compiler(), f"-I{HEADERS}", str(program), "-o", str(tmp_path / "size")],
-                   check=True)
-    c_size = int(subprocess.run([str(tmp_path / "size")], capture_output=True, text=True,
-                                check=True).stdout)
-    source = ("const _: () = assert!(core::mem::size_of::<"
-              f"{C_TO_RUST['fmi2CallbackFunctions']}>() == {c_size});\n")
+    program.write_text(
+        '#include <stdio.h>\n#include "fmi2Functions.h"\n'
+        'int main(void) { printf("%zu", sizeof(fmi2CallbackFunctions)); }\n'
+    )
+    subprocess.run(
+        [c_compiler(), f"-I{HEADERS}", str(program), "-o", str(tmp_path / "size")], check=True
+    )
+    c_size = int(
+        subprocess.run([str(tmp_path / "size")], capture_output=True, text=True, check=True).stdout
+    )
+    source = (
+        "const _: () = assert!(core::mem::size_of::<"
+        f"{C_TO_RUST['fmi2CallbackFunctions']}>() == {c_size});\n"
+    )
     done = compile_check(source, rlib, tmp_path)
     assert done.returncode == 0, done.stderr
 
@@ -237,21 +280,31 @@ def mutate(text, function, old, new):
     pattern = r"\s+".join(map(re.escape, old.split()))
     changed, count = re.subn(pattern, lambda _: new, typedef[0])
     assert count == 1, (function, old)
-    return text[:typedef.start()] + changed + text[typedef.end():]
+    return text[: typedef.start()] + changed + text[typedef.end() :]
 
 
-@pytest.mark.parametrize("version,function,wrong", [
-    (2, "fmi2DoStep", ("fmi2Real communicationStepSize", "float communicationStepSize")),
-    (2, "fmi2GetReal", ("fmi2Real value[]", "const fmi2Real value[]")),
-    (2, "fmi2GetBooleanStatus", ("fmi2Boolean* value", "fmi2Real* value")),
-    (2, "fmi2Instantiate", ("fmi2Boolean visible", "fmi2Real visible")),
-    (3, "fmi3DoStep", ("fmi3Float64 communicationStepSize", "fmi3Float32 communicationStepSize")),
-    (3, "fmi3GetFloat64", ("size_t nValues", "fmi3UInt32 nValues")),
-    (3, "fmi3GetBoolean", ("fmi3Boolean values[]", "fmi3Int32 values[]")),
-    (3, "fmi3InstantiateCoSimulation", ("fmi3LogMessageCallback logMessage",
-                                        "fmi3ClockUpdateCallback logMessage")),
-    (3, "fmi3GetVersion", ("const char*", "char*")),
-])
+@pytest.mark.parametrize(
+    "version,function,wrong",
+    [
+        (2, "fmi2DoStep", ("fmi2Real communicationStepSize", "float communicationStepSize")),
+        (2, "fmi2GetReal", ("fmi2Real value[]", "const fmi2Real value[]")),
+        (2, "fmi2GetBooleanStatus", ("fmi2Boolean* value", "fmi2Real* value")),
+        (2, "fmi2Instantiate", ("fmi2Boolean visible", "fmi2Real visible")),
+        (
+            3,
+            "fmi3DoStep",
+            ("fmi3Float64 communicationStepSize", "fmi3Float32 communicationStepSize"),
+        ),
+        (3, "fmi3GetFloat64", ("size_t nValues", "fmi3UInt32 nValues")),
+        (3, "fmi3GetBoolean", ("fmi3Boolean values[]", "fmi3Int32 values[]")),
+        (
+            3,
+            "fmi3InstantiateCoSimulation",
+            ("fmi3LogMessageCallback logMessage", "fmi3ClockUpdateCallback logMessage"),
+        ),
+        (3, "fmi3GetVersion", ("const char*", "char*")),
+    ],
+)
 def test_a_wrong_signature_fails_the_compile(rlib, tmp_path, version, function, wrong):
     """The check bites: one type of the header changed, the compile fails naming the function."""
     texts = {2: header_texts(2), 3: header_texts(3)}

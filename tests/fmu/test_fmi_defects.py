@@ -27,7 +27,7 @@ def refused(plate, call, *words):
 def values(plate):
     """Every variable the host can read now, as exact bits."""
     out = {}
-    for name, v in plate.variables.items():
+    for name in plate.variables:
         try:
             out[name] = plate.get(name)
         except FMICallException:
@@ -40,18 +40,31 @@ def test_a_refused_multi_value_set_changes_nothing(new_plate):
     p.fmu.setupExperiment(startTime=0.0)
     p.fmu.enterInitializationMode()
     before = values(p)
-    refused(p, lambda: p.fmu.setReal([p.vr("load.pressure"), p.vr("energy.kinetic")], [7770.0, 1.0]),
-            "energy.kinetic")
-    refused(p, lambda: p.fmu.setInteger([p.vr("mesh.nx"), p.vr("mesh.element")], [5, 3]), "mesh.element")
-    refused(p, lambda: p.fmu.setBoolean([p.vr("obstacle.lower_enabled"), 9999], [False, True]), "9999")
+    refused(
+        p,
+        lambda: p.fmu.setReal([p.vr("load.pressure"), p.vr("energy.kinetic")], [7770.0, 1.0]),
+        "energy.kinetic",
+    )
+    refused(
+        p, lambda: p.fmu.setInteger([p.vr("mesh.nx"), p.vr("mesh.element")], [5, 3]), "mesh.element"
+    )
+    refused(
+        p, lambda: p.fmu.setBoolean([p.vr("obstacle.lower_enabled"), 9999], [False, True]), "9999"
+    )
     assert values(p) == before
     p.fmu.exitInitializationMode()
     p.step(1e-3)
     before = values(p)
-    refused(p, lambda: p.fmu.setReal([p.vr("obstacle.upper"), p.vr("load.pressure")], [1e308, math.nan]),
-            "load.pressure")
-    refused(p, lambda: p.fmu.setReal([p.vr("base.displacement"), p.vr("plate.width")], [1e-3, 0.3]),
-            "plate.width")
+    refused(
+        p,
+        lambda: p.fmu.setReal([p.vr("obstacle.upper"), p.vr("load.pressure")], [1e308, math.nan]),
+        "load.pressure",
+    )
+    refused(
+        p,
+        lambda: p.fmu.setReal([p.vr("base.displacement"), p.vr("plate.width")], [1e-3, 0.3]),
+        "plate.width",
+    )
     assert values(p) == before
 
 
@@ -77,14 +90,28 @@ def crafted(plate, edit):
     return fmu_state.encode(edited if edited is not None else payload, crate_version), bytes(data)
 
 
-@pytest.mark.parametrize("field,edit,words", [
-    ("start_time", lambda s: s["model"].update(start_time=-1e308), "too coarse"),
-    ("poisson_ratio", lambda s: s["model"]["parameters"]["material"].update(poisson_ratio=0.7),
-     "material.poisson_ratio"),
-    ("field value", lambda s: s["model"]["simulation"]["stepper"]["current"].__setitem__(0, -1e308), "current[contact point"),
-    ("step count", lambda s: json_text(s, '"step_index":', "-9223372036854775809"), "invalid payload"),
-    ("mode", lambda s: s.update(mode="StepCanceled"), "never enters"),
-])
+@pytest.mark.parametrize(
+    "field,edit,words",
+    [
+        ("start_time", lambda s: s["model"].update(start_time=-1e308), "too coarse"),
+        (
+            "poisson_ratio",
+            lambda s: s["model"]["parameters"]["material"].update(poisson_ratio=0.7),
+            "material.poisson_ratio",
+        ),
+        (
+            "field value",
+            lambda s: s["model"]["simulation"]["stepper"]["current"].__setitem__(0, -1e308),
+            "current[contact point",
+        ),
+        (
+            "step count",
+            lambda s: json_text(s, '"step_index":', "-9223372036854775809"),
+            "invalid payload",
+        ),
+        ("mode", lambda s: s.update(mode="StepCanceled"), "never enters"),
+    ],
+)
 def test_crafted_states_with_good_checksums_are_refused(new_plate, field, edit, words):
     p = new_plate().initialize({"base.amplitude": 0.005})
     for _ in range(5):
@@ -104,6 +131,7 @@ def json_text(payload, key, raw):
     numbers no JSON library writes, such as integers beyond 64 bits)."""
     import json
     import re
+
     return re.sub(re.escape(key) + r"\d+", key + raw, json.dumps(payload, separators=(",", ":")))
 
 
@@ -133,13 +161,22 @@ def test_ulp_jitter_of_the_step_size_gives_the_same_bits(new_plate):
             p.fmu.doStep(p.fmu.getRealStatus(2) if k else 0.0, h)
             out.append(p.get("corner1.displacement"))
         return np.array(out)
+
     assert run(True).tobytes() == run(False).tobytes()
 
 
 def test_the_element_can_be_set_as_an_integer(fmu_path):
     # The FVS element, reachable in engines that only set Integers.
-    a = simulate_fmu(fmu_path, stop_time=0.02, start_values={"mesh.element": 2, "base.amplitude": 0.005},
-                     output=["corner1.displacement"])
-    b = simulate_fmu(fmu_path, stop_time=0.02, start_values={"mesh.element": 1, "base.amplitude": 0.005},
-                     output=["corner1.displacement"])
+    a = simulate_fmu(
+        fmu_path,
+        stop_time=0.02,
+        start_values={"mesh.element": 2, "base.amplitude": 0.005},
+        output=["corner1.displacement"],
+    )
+    b = simulate_fmu(
+        fmu_path,
+        stop_time=0.02,
+        start_values={"mesh.element": 1, "base.amplitude": 0.005},
+        output=["corner1.displacement"],
+    )
     assert not np.array_equal(a["corner1.displacement"], b["corner1.displacement"])

@@ -72,7 +72,9 @@ def manual_run(new_plate, h, orders):
         p.set("base.displacement", C * math.sin(w * t))
         derivatives = {1: C * w * math.cos(w * t), 2: -C * w * w * math.sin(w * t)}
         if orders:
-            p.fmu.setRealInputDerivatives([vr] * len(orders), orders, [derivatives[o] for o in orders])
+            p.fmu.setRealInputDerivatives(
+                [vr] * len(orders), orders, [derivatives[o] for o in orders]
+            )
         p.step(h)
         out.append(p.get("corner1.displacement"))
     return np.array(out)

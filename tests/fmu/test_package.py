@@ -27,7 +27,9 @@ def test_model_description_matches_spec(model_description):
     assert float(experiment.startTime) == 0 and float(experiment.stopTime) == 1
     assert float(experiment.stepSize) == 1e-3
     by_name = {v.name: v for v in md.modelVariables}
-    assert by_name["mesh.element"].type == "Integer"  # engines that ignore FMI 2.0 enumerations can set it
+    assert (
+        by_name["mesh.element"].type == "Integer"
+    )  # engines that ignore FMI 2.0 enumerations can set it
     assert (by_name["mesh.element"].min, by_name["mesh.element"].max) == ("1", "2")
     assert by_name["base.displacement"].causality == "input"
     assert by_name["obstacle.lower"].variability == "tunable"
@@ -44,7 +46,7 @@ def content_token(path):
     digest = bytearray(hashlib.sha256(text.encode()).digest()[:16])
     digest[6] = digest[6] & 0x0F | 0x80
     digest[8] = digest[8] & 0x3F | 0x80
-    return "{%s}" % uuid.UUID(bytes=bytes(digest))
+    return f"{{{uuid.UUID(bytes=bytes(digest))}}}"
 
 
 def test_the_tokens_are_derived_from_the_descriptions(model_description, model_description3):

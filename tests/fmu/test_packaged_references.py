@@ -20,7 +20,7 @@ LS_REF = "extra/org.fmi-standard.fmi-ls-ref"
 SSV = "{http://ssp-standard.org/SSP1/SystemStructureParameterValues}"
 MANIFEST_NS = "http://fmi-standard.org/fmi-ls-manifest"
 SCENE_NAMES = sorted(p.stem for p in SCENES.glob("*.json"))
-KINDS = {"Real": float, "Integer": int, "Boolean": lambda text: text == "true"}
+KINDS = {"Real": float, "Integer": int, "Boolean": lambda text: text == "true", "String": str}
 
 
 @pytest.fixture(params=[2, 3], ids=["fmi2", "fmi3"])
@@ -48,8 +48,11 @@ def parameter_set(fmu, source):
 def experiments_file(fmu):
     """The experiments file the manifest names, as an importer finds it."""
     root = ET.fromstring(read(fmu, f"{LS_REF}/fmi-ls-manifest.xml"))
-    (source,) = [r.get("source") for r in root.iter("Related")
-                 if r.get("type") == "application/x-ma-hs-experiments"]
+    (source,) = [
+        r.get("source")
+        for r in root.iter("Related")
+        if r.get("type") == "application/x-ma-hs-experiments"
+    ]
     return source
 
 
@@ -72,11 +75,15 @@ def test_the_manifest_names_the_layered_standard_and_every_file(fmu):
     with zipfile.ZipFile(fmu) as z:
         names = set(z.namelist())
     for source, role in related.items():
-        path = source.removeprefix("../../") if source.startswith("../../") else f"{LS_REF}/{source}"
+        path = (
+            source.removeprefix("../../") if source.startswith("../../") else f"{LS_REF}/{source}"
+        )
         assert path in names, source
-    expected = {"experiments.exp": "experiment/validation",
-                "../../documentation/index.html": "document",
-                "../../documentation/fmi-ls-ref.html": "document"}
+    expected = {
+        "experiments.exp": "experiment/validation",
+        "../../documentation/index.html": "document",
+        "../../documentation/fmi-ls-ref.html": "document",
+    }
     for scene in SCENE_NAMES:
         expected |= {f"{scene}.ssv": "parameter", f"{scene}.csv": "result"}
     assert related == expected
@@ -98,7 +105,7 @@ def test_each_parameter_set_is_its_scene_file(fmu):
                 expected = expected in (True, "true")
             elif variable.type == "Integer":
                 expected = int(expected)
-            else:
+            elif variable.type != "String":
                 expected = float(expected)
             assert values[name] == expected, (scene, name, values[name], expected)
 
@@ -108,13 +115,20 @@ def test_the_fmu_meets_its_packaged_reference(fmu, scene):
     experiment = experiments(fmu)[scene]
     start = parameter_set(fmu, experiment.find("Parameters").get("source"))
     source = experiment.find("References").get("source")
-    reference = np.genfromtxt(io.BytesIO(read(fmu, f"{LS_REF}/{source}")), delimiter=",",
-                              names=True, deletechars="")
+    reference = np.genfromtxt(
+        io.BytesIO(read(fmu, f"{LS_REF}/{source}")), delimiter=",", names=True, deletechars=""
+    )
     outputs = [n for n in reference.dtype.names if n != "time"]
     assert len(outputs) == 17
     start_time, stop_time, step = horizon(experiment)
-    result = simulate_fmu(fmu, start_time=start_time, stop_time=stop_time, output_interval=step,
-                          start_values=start, output=outputs)
+    result = simulate_fmu(
+        fmu,
+        start_time=start_time,
+        stop_time=stop_time,
+        output_interval=step,
+        start_values=start,
+        output=outputs,
+    )
     assert_matches(result, reference, scene)
 
 

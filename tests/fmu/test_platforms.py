@@ -22,7 +22,8 @@ from conftest import ROOT
 pytestmark = pytest.mark.skipif(
     os.environ.get("PLATE_IMPACT_PLATFORMS") != "all",
     reason="the developer FMUs carry this machine's binary only: "
-           "PLATE_IMPACT_PLATFORMS=all scripts/test-all (as .ci/run) tests the release FMUs")
+    "PLATE_IMPACT_PLATFORMS=all scripts/test-all (as .ci/run) tests the release FMUs",
+)
 
 SOURCE = ROOT / "examples" / "c" / "plate_host.c"
 WIN32 = pathlib.Path(__file__).resolve().parent / "win32"
@@ -30,15 +31,26 @@ FMI2_HEADERS = pathlib.Path(fmpy.__file__).parent / "c-code"
 FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", f"-I{FMI2_HEADERS}"]
 
 FMI2_BINARIES = {"binaries/linux64/PlateImpact.so", "binaries/win64/PlateImpact.dll"}
-FMI3_BINARIES = {"binaries/x86_64-linux/PlateImpact.so", "binaries/x86_64-windows/PlateImpact.dll",
-                 "binaries/aarch64-linux/PlateImpact.so"}
+FMI3_BINARIES = {
+    "binaries/x86_64-linux/PlateImpact.so",
+    "binaries/x86_64-windows/PlateImpact.dll",
+    "binaries/aarch64-linux/PlateImpact.so",
+}
 # The glibc both Linux libraries are linked against (cargo zigbuild --target ...-gnu.2.17):
 # RHEL 7, Ubuntu 14.04 (x86_64) or 18.04 (aarch64), Debian 8 and later.
 GLIBC_MAX = (2, 17)
 # What the Windows DLL may import: DLLs that every Windows 10 and later has (Rust's standard
 # library takes ProcessPrng from bcryptprimitives.dll, msvcrt.dll is the C runtime of mingw-w64).
-SYSTEM_DLLS = {"kernel32.dll", "ntdll.dll", "bcryptprimitives.dll", "msvcrt.dll", "ws2_32.dll",
-               "userenv.dll", "advapi32.dll", "api-ms-win-core-synch-l1-2-0.dll"}
+SYSTEM_DLLS = {
+    "kernel32.dll",
+    "ntdll.dll",
+    "bcryptprimitives.dll",
+    "msvcrt.dll",
+    "ws2_32.dll",
+    "userenv.dll",
+    "advapi32.dll",
+    "api-ms-win-core-synch-l1-2-0.dll",
+}
 # aarch64 against x86_64, each output's largest difference over the 1000 points, relative to the
 # output's largest |value|. Measured: 1.5e-9 (corners) and 5.9e-9 (energy); docs/platforms.md:
 # faer's NEON kernels sum in another order than its AVX2 ones, from the first step, and the same
@@ -60,13 +72,16 @@ def tool(name, package):
 
 def run(command, **kwargs):
     done = subprocess.run([str(c) for c in command], capture_output=True, text=True, **kwargs)
-    assert done.returncode == 0, f"{' '.join(map(str, command))} failed:\n{done.stdout}\n{done.stderr}"
+    assert done.returncode == 0, (
+        f"{' '.join(map(str, command))} failed:\n{done.stdout}\n{done.stderr}"
+    )
     return done
 
 
 def elf_sections(path):
-    return re.findall(r"^\s*\d+\s+(\S+)", run([tool("objdump", "binutils"), "-h", path]).stdout,
-                      re.MULTILINE)
+    return re.findall(
+        r"^\s*\d+\s+(\S+)", run([tool("objdump", "binutils"), "-h", path]).stdout, re.MULTILINE
+    )
 
 
 def glibc_versions(path):
@@ -95,8 +110,10 @@ def test_both_fmus_list_every_platform(fmu_path, fmu3_path):
 def test_the_linux_libraries_need_at_most_glibc_2_17_and_carry_no_debug_info(unzipdir, unzipdir3):
     x86_64 = pathlib.Path(unzipdir) / "binaries" / "linux64" / "PlateImpact.so"
     # Both FMUs carry the same x86_64 library.
-    assert x86_64.read_bytes() == (pathlib.Path(unzipdir3) / "binaries" / "x86_64-linux"
-                                   / "PlateImpact.so").read_bytes()
+    assert (
+        x86_64.read_bytes()
+        == (pathlib.Path(unzipdir3) / "binaries" / "x86_64-linux" / "PlateImpact.so").read_bytes()
+    )
     aarch64 = pathlib.Path(unzipdir3) / "binaries" / "aarch64-linux" / "PlateImpact.so"
     for library in (x86_64, aarch64):
         versions = glibc_versions(library)
@@ -110,8 +127,12 @@ def test_the_linux_libraries_need_at_most_glibc_2_17_and_carry_no_debug_info(unz
 
 def test_the_windows_dll_imports_only_system_dlls_and_carries_no_debug_info(unzipdir, unzipdir3):
     dll = pathlib.Path(unzipdir) / "binaries" / "win64" / "PlateImpact.dll"
-    assert dll.read_bytes() == (pathlib.Path(unzipdir3) / "binaries" / "x86_64-windows"
-                                / "PlateImpact.dll").read_bytes()
+    assert (
+        dll.read_bytes()
+        == (
+            pathlib.Path(unzipdir3) / "binaries" / "x86_64-windows" / "PlateImpact.dll"
+        ).read_bytes()
+    )
     objdump = tool("x86_64-w64-mingw32-objdump", "binutils-mingw-w64-x86-64")
     headers = run([objdump, "-p", dll]).stdout
     imports = {name.lower() for name in re.findall(r"DLL Name: (\S+)", headers)}
@@ -124,8 +145,10 @@ def test_the_windows_dll_imports_only_system_dlls_and_carries_no_debug_info(unzi
 
 def parse_host(stdout):
     """The host's points (k, y1, y2, y3), exact, and its summary line."""
-    points = [tuple([int(m[1])] + [float.fromhex(x) for x in m[2].split()])
-              for m in re.finditer(r"^point (\d+) (\S+ \S+ \S+)$", stdout, re.MULTILINE)]
+    points = [
+        tuple([int(m[1])] + [float.fromhex(x) for x in m[2].split()])
+        for m in re.finditer(r"^point (\d+) (\S+ \S+ \S+)$", stdout, re.MULTILINE)
+    ]
     assert len(points) == 1000, stdout[-2000:]
     assert [p[0] for p in points] == list(range(1, 1001))
     summary = stdout.splitlines()[-1]
@@ -141,20 +164,45 @@ def linux_points(unzipdir, tmp_path_factory):
     return parse_host(run([host, unzipdir, "--trajectory"], timeout=300).stdout)
 
 
-def test_the_windows_dll_under_wine_gives_the_linux_trajectory_bit_for_bit(unzipdir, linux_points,
-                                                                           tmp_path_factory):
+def test_the_windows_dll_under_wine_gives_the_linux_trajectory_bit_for_bit(
+    unzipdir, linux_points, tmp_path_factory
+):
     wine = tool("wine", "wine64")
     out = tmp_path_factory.mktemp("host-windows")
     mingw = tool("x86_64-w64-mingw32-gcc", "gcc-mingw-w64-x86-64")
     # The unchanged host over the test-only dlfcn.h shim; ProcessPrng's stub next to it.
     run([mingw, *FLAGS, f"-I{WIN32}", SOURCE, "-o", out / "plate_host.exe"])
-    run([mingw, "-std=c11", "-Wall", "-Wextra", "-Werror", "-shared", WIN32 / "bcryptprimitives.c",
-         "-o", out / "bcryptprimitives.dll", "-lbcrypt"])
-    env = dict(os.environ, WINEPREFIX=str(out / "wineprefix"), WINEDEBUG="-all",
-               WINEDLLOVERRIDES="bcryptprimitives=n")
+    run(
+        [
+            mingw,
+            "-std=c11",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-shared",
+            WIN32 / "bcryptprimitives.c",
+            "-o",
+            out / "bcryptprimitives.dll",
+            "-lbcrypt",
+        ]
+    )
+    env = dict(
+        os.environ,
+        WINEPREFIX=str(out / "wineprefix"),
+        WINEDEBUG="-all",
+        WINEDLLOVERRIDES="bcryptprimitives=n",
+    )
     # Wine maps the Unix root to drive Z:.
-    done = run([wine, out / "plate_host.exe", "Z:" + str(pathlib.Path(unzipdir).resolve()),
-                "--trajectory"], env=env, timeout=600)
+    done = run(
+        [
+            wine,
+            out / "plate_host.exe",
+            "Z:" + str(pathlib.Path(unzipdir).resolve()),
+            "--trajectory",
+        ],
+        env=env,
+        timeout=600,
+    )
     points, summary = parse_host(done.stdout)
     reference, linux_summary = linux_points
     differing = [(p, q) for p, q in zip(points, reference) if p != q]
@@ -162,8 +210,9 @@ def test_the_windows_dll_under_wine_gives_the_linux_trajectory_bit_for_bit(unzip
     assert summary == linux_summary
 
 
-def test_the_aarch64_library_under_qemu_agrees_with_x86_64(unzipdir, unzipdir3, linux_points,
-                                                           tmp_path_factory):
+def test_the_aarch64_library_under_qemu_agrees_with_x86_64(
+    unzipdir, unzipdir3, linux_points, tmp_path_factory
+):
     qemu = tool("qemu-aarch64", "qemu-user")
     gcc = tool("aarch64-linux-gnu-gcc", "gcc-aarch64-linux-gnu")
     out = tmp_path_factory.mktemp("host-aarch64")
@@ -173,15 +222,27 @@ def test_the_aarch64_library_under_qemu_agrees_with_x86_64(unzipdir, unzipdir3, 
     fmu = out / "fmu"
     (fmu / "binaries" / "aarch64-linux").mkdir(parents=True)
     shutil.copy(pathlib.Path(unzipdir) / "modelDescription.xml", fmu)
-    shutil.copy(pathlib.Path(unzipdir3) / "binaries" / "aarch64-linux" / "PlateImpact.so",
-                fmu / "binaries" / "aarch64-linux")
-    run([gcc, *FLAGS, '-DPLATE_HOST_BINARY="binaries/aarch64-linux/PlateImpact.so"', SOURCE,
-         "-o", host, "-ldl"])
+    shutil.copy(
+        pathlib.Path(unzipdir3) / "binaries" / "aarch64-linux" / "PlateImpact.so",
+        fmu / "binaries" / "aarch64-linux",
+    )
+    run(
+        [
+            gcc,
+            *FLAGS,
+            '-DPLATE_HOST_BINARY="binaries/aarch64-linux/PlateImpact.so"',
+            SOURCE,
+            "-o",
+            host,
+            "-ldl",
+        ]
+    )
     done = run([qemu, "-L", "/usr/aarch64-linux-gnu", host, fmu, "--trajectory"], timeout=1200)
     points, _ = parse_host(done.stdout)
     reference, _ = linux_points
-    for column, name in enumerate(["corner1.displacement", "corner2.displacement",
-                                   "energy.total"], start=1):
+    for column, name in enumerate(
+        ["corner1.displacement", "corner2.displacement", "energy.total"], start=1
+    ):
         scale = max(abs(q[column]) for q in reference)
         worst = max(abs(p[column] - q[column]) for p, q in zip(points, reference)) / scale
         assert worst <= AARCH64_RTOL, f"{name}: aarch64 differs by {worst:.2e} of its scale"

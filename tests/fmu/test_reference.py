@@ -22,9 +22,8 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
-from conftest import SCENES, scene_start_values
-
 import reference.regenerate as regenerate
+from conftest import SCENES, scene_start_values
 
 # 1e-7 m, 1e-5 of the 0.01 m gap: 100 x the largest solver-to-solver difference (8.8e-10 m).
 DISPLACEMENT_ATOL = 1e-7
@@ -47,8 +46,14 @@ SCENE_NAMES = sorted(p.stem for p in SCENES.glob("*.json"))
 def test_fmu_matches_its_golden_result(fmu_path, scene):
     reference = regenerate.read(regenerate.HERE / f"{scene}.csv")
     start, stop = scene_start_values(scene)
-    result = simulate_fmu(fmu_path, start_time=0.0, stop_time=stop, output_interval=regenerate.STEP,
-                          start_values=start, output=regenerate.OUTPUTS)
+    result = simulate_fmu(
+        fmu_path,
+        start_time=0.0,
+        stop_time=stop,
+        output_interval=regenerate.STEP,
+        start_values=start,
+        output=regenerate.OUTPUTS,
+    )
     assert_matches(result, reference, scene)
 
 
@@ -58,27 +63,49 @@ def assert_matches(result, reference, scene):
     assert len(result) == len(reference)
     np.testing.assert_allclose(result["time"], reference["time"], rtol=0, atol=1e-12)
     for name in regenerate.DISPLACEMENTS:
-        np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=DISPLACEMENT_ATOL,
-                                   err_msg=f"{scene}: {name}")
+        np.testing.assert_allclose(
+            result[name],
+            reference[name],
+            rtol=0,
+            atol=DISPLACEMENT_ATOL,
+            err_msg=f"{scene}: {name}",
+        )
     for name in regenerate.VELOCITIES:
         # A velocity is a displacement's slope over one internal step: held, as the forces, to
         # 1e-5 of its largest value (at least 1e-6 m/s).
         scale = max(np.max(np.abs(reference[name])), 1e-6)
-        np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=FORCE_RTOL * scale,
-                                   err_msg=f"{scene}: {name}")
+        np.testing.assert_allclose(
+            result[name],
+            reference[name],
+            rtol=0,
+            atol=FORCE_RTOL * scale,
+            err_msg=f"{scene}: {name}",
+        )
     energy_scale = np.max(np.abs(reference["energy.total"]))
     for name in regenerate.ENERGIES:
         # The works and losses summed since the start may exceed the energy itself (forced scenes).
         scale = max(energy_scale, np.max(np.abs(reference[name])))
-        np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=ENERGY_RTOL * scale,
-                                   err_msg=f"{scene}: {name}")
+        np.testing.assert_allclose(
+            result[name],
+            reference[name],
+            rtol=0,
+            atol=ENERGY_RTOL * scale,
+            err_msg=f"{scene}: {name}",
+        )
     for name in regenerate.FORCES:
         scale = max(np.max(np.abs(reference[name])), 1.0)
-        np.testing.assert_allclose(result[name], reference[name], rtol=0, atol=FORCE_RTOL * scale,
-                                   err_msg=f"{scene}: {name}")
+        np.testing.assert_allclose(
+            result[name],
+            reference[name],
+            rtol=0,
+            atol=FORCE_RTOL * scale,
+            err_msg=f"{scene}: {name}",
+        )
     for name in regenerate.INTEGERS:
         flips = np.abs(result[name].astype(int) - reference[name].astype(int))
-        assert flips.max() <= 1 and np.count_nonzero(flips) <= ACTIVE_FLIPS, f"{scene}: {name} differ"
+        assert flips.max() <= 1 and np.count_nonzero(flips) <= ACTIVE_FLIPS, (
+            f"{scene}: {name} differ"
+        )
 
 
 def test_the_golden_results_are_not_trivial():

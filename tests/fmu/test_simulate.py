@@ -27,8 +27,19 @@ STEP = 1e-3
 def rust_reference(scene, stop, every):
     """Outputs of `examples/scene.rs` (the library without the FMU) every `every` steps."""
     out = subprocess.run(
-        ["cargo", "run", "--release", "--quiet", "--example", "scene", "--", scene, f"stop_time={stop}",
-         "--every", str(every)],
+        [
+            "cargo",
+            "run",
+            "--release",
+            "--quiet",
+            "--example",
+            "scene",
+            "--",
+            scene,
+            f"stop_time={stop}",
+            "--every",
+            str(every),
+        ],
         cwd=ROOT,
         check=True,
         capture_output=True,
@@ -37,7 +48,9 @@ def rust_reference(scene, stop, every):
     return np.genfromtxt(io.StringIO(out), delimiter=",", names=True)
 
 
-@pytest.mark.parametrize("scene", ["default", "forced", "forced-30hz", "forced-35hz-damped", "energy"])
+@pytest.mark.parametrize(
+    "scene", ["default", "forced", "forced-30hz", "forced-35hz-damped", "energy"]
+)
 def test_simulate_matches_the_library(fmu_path, scene):
     start_values = {} if scene == "default" else scene_start_values(scene)[0]
     result = simulate_fmu(
@@ -67,9 +80,21 @@ def test_simulate_default_experiment(fmu_path):
 def test_nonzero_start_time_shifts_the_plate_clock(fmu_path):
     # The plate's clock starts at the experiment's start time: the same run, shifted.
     start = {"base.amplitude": 0.005}
-    a = simulate_fmu(fmu_path, start_time=0.0, stop_time=0.05, output_interval=STEP, start_values=start,
-                     output=["corner1.displacement"])
-    b = simulate_fmu(fmu_path, start_time=0.5, stop_time=0.55, output_interval=STEP, start_values=start,
-                     output=["corner1.displacement"])
+    a = simulate_fmu(
+        fmu_path,
+        start_time=0.0,
+        stop_time=0.05,
+        output_interval=STEP,
+        start_values=start,
+        output=["corner1.displacement"],
+    )
+    b = simulate_fmu(
+        fmu_path,
+        start_time=0.5,
+        stop_time=0.55,
+        output_interval=STEP,
+        start_values=start,
+        output=["corner1.displacement"],
+    )
     np.testing.assert_allclose(b["time"] - 0.5, a["time"], atol=1e-12)
     np.testing.assert_array_equal(a["corner1.displacement"], b["corner1.displacement"])

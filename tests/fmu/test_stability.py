@@ -7,8 +7,15 @@ import math
 import pytest
 from fmpy.fmi1 import FMICallException
 
-OUTPUTS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
-           "energy.kinetic", "energy.elastic", "energy.total", "contact.force"]
+OUTPUTS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "edge_mid.displacement",
+    "energy.kinetic",
+    "energy.elastic",
+    "energy.total",
+    "contact.force",
+]
 
 
 def drop_preload(v):
@@ -31,7 +38,9 @@ def run(plate, values, steps, h):
         plate.step(h)
         out = dict(zip(OUTPUTS, plate.fmu.getReal([plate.vr(n) for n in OUTPUTS])))
         assert all(math.isfinite(x) for x in out.values()), out
-        for name in OUTPUTS[:2]:  # the free corners are constrained vertices (edge_mid is one only for even ny)
+        for name in OUTPUTS[
+            :2
+        ]:  # the free corners are constrained vertices (edge_mid is one only for even ny)
             assert lower - tol <= out[name] <= upper + tol, (name, out[name])
         energies.append(out["energy.total"])
     return energies
@@ -49,21 +58,70 @@ def bounded(energies, factor=2.0):
 
 
 DROPS = {
-    "E=1e6": ({"material.young_modulus": 1e6, "solver.time_step": 1e-3, "mesh.nx": 6, "mesh.ny": 3}, 200, 1e-2),
-    "E=1e13": ({"material.young_modulus": 1e13, "solver.time_step": 1e-5, "mesh.nx": 6, "mesh.ny": 3}, 100, 2e-4),
-    "e=1e-4": ({"plate.thickness": 1e-4, "solver.time_step": 1e-3, "mesh.element": 2, "mesh.nx": 8, "mesh.ny": 4}, 200, 1e-2),
-    "e=0.1": ({"plate.thickness": 0.1, "solver.time_step": 1e-5, "mesh.nx": 6, "mesh.ny": 3}, 100, 5e-5),
+    "E=1e6": (
+        {"material.young_modulus": 1e6, "solver.time_step": 1e-3, "mesh.nx": 6, "mesh.ny": 3},
+        200,
+        1e-2,
+    ),
+    "E=1e13": (
+        {"material.young_modulus": 1e13, "solver.time_step": 1e-5, "mesh.nx": 6, "mesh.ny": 3},
+        100,
+        2e-4,
+    ),
+    "e=1e-4": (
+        {
+            "plate.thickness": 1e-4,
+            "solver.time_step": 1e-3,
+            "mesh.element": 2,
+            "mesh.nx": 8,
+            "mesh.ny": 4,
+        },
+        200,
+        1e-2,
+    ),
+    "e=0.1": (
+        {"plate.thickness": 0.1, "solver.time_step": 1e-5, "mesh.nx": 6, "mesh.ny": 3},
+        100,
+        5e-5,
+    ),
     "nu=0": ({"material.poisson_ratio": 0.0, "mesh.nx": 8, "mesh.ny": 4}, 100, 1e-3),
-    "nu=0.499": ({"material.poisson_ratio": 0.499, "mesh.element": 2, "mesh.nx": 8, "mesh.ny": 4}, 100, 1e-3),
+    "nu=0.499": (
+        {"material.poisson_ratio": 0.499, "mesh.element": 2, "mesh.nx": 8, "mesh.ny": 4},
+        100,
+        1e-3,
+    ),
     "dt=1e-2": ({"solver.time_step": 1e-2}, 30, 1e-2),
     "dt=1e-7": ({"solver.time_step": 1e-7, "mesh.nx": 4, "mesh.ny": 2}, 50, 1e-6),
-    "gap=1e-9": ({"obstacle.lower": -1e-9, "obstacle.upper": 1e-9, "mesh.nx": 6, "mesh.ny": 3}, 100, 1e-4),
+    "gap=1e-9": (
+        {"obstacle.lower": -1e-9, "obstacle.upper": 1e-9, "mesh.nx": 6, "mesh.ny": 3},
+        100,
+        1e-4,
+    ),
     "1x1 argyris": ({"mesh.nx": 1, "mesh.ny": 1}, 200, 1e-3),
     "1x1 fvs": ({"mesh.element": 2, "mesh.nx": 1, "mesh.ny": 1}, 200, 1e-3),
-    "Lx/Ly=0.01": ({"plate.length": 0.01, "plate.width": 1.0, "plate.thickness": 1e-3, "solver.time_step": 1e-5,
-                    "mesh.nx": 1, "mesh.ny": 20}, 100, 2e-4),
-    "Lx/Ly=100": ({"plate.length": 1.0, "plate.width": 0.01, "plate.thickness": 1e-3, "mesh.nx": 20, "mesh.ny": 1},
-                  100, 2e-2),
+    "Lx/Ly=0.01": (
+        {
+            "plate.length": 0.01,
+            "plate.width": 1.0,
+            "plate.thickness": 1e-3,
+            "solver.time_step": 1e-5,
+            "mesh.nx": 1,
+            "mesh.ny": 20,
+        },
+        100,
+        2e-4,
+    ),
+    "Lx/Ly=100": (
+        {
+            "plate.length": 1.0,
+            "plate.width": 0.01,
+            "plate.thickness": 1e-3,
+            "mesh.nx": 20,
+            "mesh.ny": 1,
+        },
+        100,
+        2e-2,
+    ),
 }
 
 
@@ -81,9 +139,23 @@ def test_released_from_the_upper_obstacle(new_plate, case):
     "case,values",
     [
         ("c just inside the gap", {"base.amplitude": 0.01 * (1 - 1e-6), "base.frequency": 35.0}),
-        ("gap 1 m", {"base.amplitude": 0.009, "base.frequency": 35.0, "obstacle.lower": -1.0, "obstacle.upper": 1.0}),
-        ("f far above the modes", {"base.amplitude": 0.005, "base.frequency": 2.61637777e8, "mesh.nx": 4, "mesh.ny": 2}),
-        ("restitution 0", {"base.amplitude": 0.009, "base.frequency": 35.0, "solver.restitution": 0.0}),
+        (
+            "gap 1 m",
+            {
+                "base.amplitude": 0.009,
+                "base.frequency": 35.0,
+                "obstacle.lower": -1.0,
+                "obstacle.upper": 1.0,
+            },
+        ),
+        (
+            "f far above the modes",
+            {"base.amplitude": 0.005, "base.frequency": 2.61637777e8, "mesh.nx": 4, "mesh.ny": 2},
+        ),
+        (
+            "restitution 0",
+            {"base.amplitude": 0.009, "base.frequency": 35.0, "solver.restitution": 0.0},
+        ),
     ],
 )
 def test_forced_energy_stays_bounded(new_plate, case, values):
@@ -122,8 +194,12 @@ def expect_error(plate, call, *words):
 
 @pytest.mark.parametrize(
     "name,value,limit",
-    [("material.poisson_ratio", 0.5, "(-1, 0.5)"), ("solver.restitution", 1.01, "[0, 1]"),
-     ("solver.time_step", -1e-7, "> 0"), ("material.young_modulus", 0.0, "> 0")],
+    [
+        ("material.poisson_ratio", 0.5, "(-1, 0.5)"),
+        ("solver.restitution", 1.01, "[0, 1]"),
+        ("solver.time_step", -1e-7, "> 0"),
+        ("material.young_modulus", 0.0, "> 0"),
+    ],
 )
 def test_out_of_range_fails_at_the_set(new_plate, name, value, limit):
     p = new_plate()

@@ -12,8 +12,14 @@ from fmpy import simulate_fmu
 from conftest import scene_start_values
 
 DT = 1e-4  # solver.time_step of every scene
-CONTINUOUS = ["corner1.displacement", "corner2.displacement", "edge_mid.displacement",
-              "energy.kinetic", "energy.elastic", "energy.total"]
+CONTINUOUS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "edge_mid.displacement",
+    "energy.kinetic",
+    "energy.elastic",
+    "energy.total",
+]
 CONTACT = ["contact.active_nodes", "contact.force"]
 NO_OBSTACLES = {"obstacle.lower_enabled": False, "obstacle.upper_enabled": False}
 
@@ -48,8 +54,12 @@ def test_a_stop_time_off_the_grid_is_reached_by_interpolation(fmu_path):
     """fmpy shortens the last step to land on a stop time off the grid (`-s 0.09995`)."""
     start, _ = scene_start_values("forced-35hz")
     names = CONTINUOUS + CONTACT
-    grid = simulate_fmu(fmu_path, stop_time=0.1, output_interval=DT, start_values=start, output=names)
-    off = simulate_fmu(fmu_path, stop_time=0.09995, output_interval=1e-3, start_values=start, output=names)
+    grid = simulate_fmu(
+        fmu_path, stop_time=0.1, output_interval=DT, start_values=start, output=names
+    )
+    off = simulate_fmu(
+        fmu_path, stop_time=0.09995, output_interval=1e-3, start_values=start, output=names
+    )
     assert off["time"][-1] == pytest.approx(0.09995, abs=1e-15)
     # Every 1 ms point is a grid point: the same bits as the grid run there.
     for row in off[:-1]:
@@ -61,7 +71,9 @@ def test_a_stop_time_off_the_grid_is_reached_by_interpolation(fmu_path):
     a, b, last = grid[999], grid[1000], off[-1]
     for name in CONTINUOUS:
         expected = a[name] + 0.5 * (b[name] - a[name])
-        assert abs(last[name] - expected) <= 1e-9 * abs(b[name] - a[name]) + 4 * np.spacing(abs(a[name])), name
+        assert abs(last[name] - expected) <= 1e-9 * abs(b[name] - a[name]) + 4 * np.spacing(
+            abs(a[name])
+        ), name
     for name in CONTACT:
         assert last[name] == a[name], name
 
@@ -70,8 +82,11 @@ def test_tiny_and_half_steps_return_to_the_grid_bit_for_bit(new_plate):
     forced = {"base.amplitude": 0.009, "base.frequency": 35.0}
     whole = new_plate("whole").initialize(forced)
     _, expected = drive(whole, [1e-3] * 20)
-    for name, first in [("tiny", [1e-9] * 5 + [1e-3 - 5e-9]), ("halves", [0.5 * DT] * 20),
-                        ("three-halves", [1.5 * DT] * 6 + [1e-4])]:
+    for name, first in [
+        ("tiny", [1e-9] * 5 + [1e-3 - 5e-9]),
+        ("halves", [0.5 * DT] * 20),
+        ("three-halves", [1.5 * DT] * 6 + [1e-4]),
+    ]:
         p = new_plate(name).initialize(forced)
         times, _ = drive(p, first)
         assert times[0] > 0 and np.all(np.diff(times) > 0), name
@@ -102,7 +117,9 @@ def test_adaptive_master_steps_are_as_accurate_as_fixed_ones(fmu_path, new_plate
     fixed = corner_error(fmu_path, new_plate, [1e-3] * round(horizon / 1e-3))
     for seed in (1, 2):
         adaptive = corner_error(fmu_path, new_plate, adaptive_steps(seed, horizon))
-        print(f"seed {seed}: corner1 error {adaptive:.3e} m with adaptive steps, {fixed:.3e} m with 1 ms steps")
+        print(
+            f"seed {seed}: corner1 error {adaptive:.3e} m with adaptive steps, {fixed:.3e} m with 1 ms steps"
+        )
         assert adaptive <= 2 * fixed, (adaptive, fixed)
 
 
@@ -130,7 +147,9 @@ def test_get_set_state_between_grid_points_repeats_a_random_run(new_plate):
     signal = lambda t: 5e-4 * math.sin(37.0 * t)  # noqa: E731
     names = CONTINUOUS + CONTACT
     drive(p, steps[:60], names, signal)
-    assert abs(p.time / DT - round(p.time / DT)) > 1e-6, "the state must be saved between grid points"
+    assert abs(p.time / DT - round(p.time / DT)) > 1e-6, (
+        "the state must be saved between grid points"
+    )
     t0 = p.time
     state = p.fmu.getFMUstate()
     data = p.fmu.serializeFMUstate(state)

@@ -35,15 +35,17 @@ def test_the_default_experiment_returns_ok_from_every_call(fmu):
         messages.append((status, category.decode(), message.decode()))
 
     try:
-        result = simulate_fmu(fmu, fmi_call_logger=calls.append, logger=logger,
-                              debug_logging=False)
+        result = simulate_fmu(fmu, fmi_call_logger=calls.append, logger=logger, debug_logging=False)
     finally:
         reinstall_session_logger()
     md = read_model_description(fmu)
     stop = float(md.defaultExperiment.stopTime)
     assert result["time"][-1] == pytest.approx(stop, abs=1e-12)
-    statuses = [line.rsplit(" -> ", 1)[1] for line in calls if " -> " in line
-                and not line.rsplit(" -> ", 1)[1].startswith("0x")]
+    statuses = [
+        line.rsplit(" -> ", 1)[1]
+        for line in calls
+        if " -> " in line and not line.rsplit(" -> ", 1)[1].startswith("0x")
+    ]
     assert statuses and set(statuses) == {"OK"}, [c for c in calls if not c.endswith("OK")]
     advice = [m for s, c, m in messages if c == "logStatusWarning" and m.startswith(ADVICE)]
     assert len(advice) == 1 and all(s == 1 for s, c, m in messages if m in advice), messages
@@ -52,8 +54,10 @@ def test_the_default_experiment_returns_ok_from_every_call(fmu):
 def fmusim():
     binary = os.environ.get("FMUSIM")
     if not binary:
-        pytest.skip("FMUSIM does not name an fmusim binary (the modelica Reference-FMUs' "
-                    "simulator, built by hand as docs/fmu.md describes; no registry ships it)")
+        pytest.skip(
+            "FMUSIM does not name an fmusim binary (the modelica Reference-FMUs' "
+            "simulator, built by hand as docs/fmu.md describes; no registry ships it)"
+        )
     if not pathlib.Path(binary).is_file():
         pytest.fail(f"FMUSIM={binary} is not a file")
     return binary
@@ -81,20 +85,28 @@ def test_fmusim_gives_fmpys_numbers_with_damping(fmu, tmp_path):
     """The damped 35 Hz preset for 0.1 s: fmusim prints 16 significant digits, fmpy's values
     rounded alike are the same numbers."""
     binary = fmusim()
-    start = {k: v for k, v in scene_start_values("forced-35hz-damped")[0].items()
-             if k != "mesh.element"}  # argyris, the default
+    start = {
+        k: v for k, v in scene_start_values("forced-35hz-damped")[0].items() if k != "mesh.element"
+    }  # argyris, the default
     rows, _ = run_fmusim(binary, fmu, tmp_path / "damped.csv", {**start})
     rows = [r for r in rows if float(r["time"]) <= 0.1 + 1e-12]
     result = simulate_fmu(fmu, stop_time=0.1, output_interval=1e-3, start_values=start)
     assert len(rows) == len(result) == 101
     # The scalar outputs (the FMI 3.0 field plate.displacement is an array).
-    names = [n for n in result.dtype.names
-             if n != "time" and n in rows[0] and result.dtype[n].shape == ()]
+    names = [
+        n
+        for n in result.dtype.names
+        if n != "time" and n in rows[0] and result.dtype[n].shape == ()
+    ]
     assert len(names) == 17, names
     for row, expected in zip(rows, result):
         for name in names:
             printed = float(row[name])
             value = float(expected[name])
             # %.16g keeps 16 significant digits: the two agree to within a rounding of the 16th.
-            assert math.isclose(printed, float(f"{value:.16g}"), rel_tol=1e-15, abs_tol=0), \
-                (row["time"], name, printed, value)
+            assert math.isclose(printed, float(f"{value:.16g}"), rel_tol=1e-15, abs_tol=0), (
+                row["time"],
+                name,
+                printed,
+                value,
+            )

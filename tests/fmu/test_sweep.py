@@ -49,8 +49,9 @@ def test_free_plate_resonates_at_first_natural_frequency(fmu_path):
     horizon, resolution = 1.0, 1.0  # T·δf = 1
     frequencies = [46.0 + resolution * i for i in range(17)]  # 46 ... 62 Hz, f1 inside
     fixed = dict(COARSE, **{"base.amplitude": 1e-4, "solver.time_step": 2e-4})
-    rows = frequency_sweep.sweep(fmu_path, frequencies, fixed=fixed, configs=("free",),
-                                 stop_time=horizon, progress=False)
+    rows = frequency_sweep.sweep(
+        fmu_path, frequencies, fixed=fixed, configs=("free",), stop_time=horizon, progress=False
+    )
     assert all(r["impacts"] == 0 and r["dissipated_per_period_J"] == 0.0 for r in rows)
     best = max(rows, key=lambda r: r["peak_corner_m"])
     assert abs(best["base.frequency"] - f1) <= resolution / 2, (best["base.frequency"], f1)
@@ -94,6 +95,7 @@ def test_branches_differ_only_beyond_tolerance_and_spread():
     thresholds are tested exactly: 5 % apart with σ = 1 % each (3σ of the difference = 4.2 %)
     differs; 5 % apart with σ = 2 % each (8.5 %) is chaotic scatter; 2.9 % apart with no spread is
     within the 3 % tolerance; equal RMS with impacts on one branch only differs."""
+
     def row(rms, spread, impacts=1.0):
         return {"rms_corner_m": rms, "rms_corner_spread_m": spread, "impacts_per_period": impacts}
 
@@ -113,19 +115,38 @@ def test_continuation_reaches_the_steady_state_of_runs_from_rest(fmu_path):
     lowers it by at most 1 − cos(πfΔt) ≤ 1.8e-4 at 60 Hz, and the input the continuation drives is
     extrapolated over each step to O((2πfΔt)³/6) ≈ 1e-5 of c. Tolerance 1e-3 of the peak."""
     f1 = frequency_sweep.natural_frequencies(COARSE, count=1)[0]
-    fixed = dict(COARSE, **{"damping.mass_proportional": 2 * 0.05 * 2 * math.pi * f1,
-                            "solver.time_step": 1e-4})
+    fixed = dict(
+        COARSE,
+        **{"damping.mass_proportional": 2 * 0.05 * 2 * math.pi * f1, "solver.time_step": 1e-4},
+    )
     frequencies = [40.0, 52.0, 60.0]
-    rows = frequency_sweep.continuation(fmu_path, frequencies, amplitude=0.002, fixed=fixed,
-                                        configs=("free",), settle=1.0, measure=0.5, progress=False)
-    from_rest = frequency_sweep.sweep(fmu_path, frequencies, fixed=dict(fixed, **{"base.amplitude": 0.002}),
-                                      configs=("free",), stop_time=2.0, progress=False)
+    rows = frequency_sweep.continuation(
+        fmu_path,
+        frequencies,
+        amplitude=0.002,
+        fixed=fixed,
+        configs=("free",),
+        settle=1.0,
+        measure=0.5,
+        progress=False,
+    )
+    from_rest = frequency_sweep.sweep(
+        fmu_path,
+        frequencies,
+        fixed=dict(fixed, **{"base.amplitude": 0.002}),
+        configs=("free",),
+        stop_time=2.0,
+        progress=False,
+    )
     assert [r["direction"] for r in rows] == ["up"] * 3 + ["down"] * 3
     assert all(r["impacts_per_period"] == 0 and r["dissipated_per_period_J"] == 0 for r in rows)
     for reference in from_rest:
         f = reference["base.frequency"]
         for r in (r for r in rows if r["base.frequency"] == f):
-            assert r["peak_corner_m"] == pytest.approx(reference["peak_corner_m"], rel=1e-3), (f, r["direction"])
+            assert r["peak_corner_m"] == pytest.approx(reference["peak_corner_m"], rel=1e-3), (
+                f,
+                r["direction"],
+            )
     assert frequency_sweep.hysteresis(rows) == {("free", ()): []}
 
 

@@ -29,7 +29,9 @@ def test_window_values_split_the_samples_and_the_counts():
     # The peak: the largest window's, spread of the window peaks; the others: the mean, σ/√K.
     assert windows.value_and_spread("peak_corner", [5.0, 2.0]) == (5.0, np.std([5, 2], ddof=1))
     assert windows.value_and_spread("impact_rate", [1.0, 2.0]) == (
-        1.5, np.std([1, 2], ddof=1) / np.sqrt(2))
+        1.5,
+        np.std([1, 2], ddof=1) / np.sqrt(2),
+    )
 
 
 def test_standard_error_is_the_spread_of_the_mean():

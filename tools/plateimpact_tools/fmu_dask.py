@@ -19,8 +19,9 @@ import tempfile
 import time
 import zipfile
 
-_EXTRACTED = {}
-_SHIPPED = set()  # the ids of the clients whose workers have the package (`ship_package`)
+# digest of an FMU -> the directory it was unpacked to, once per process.
+_EXTRACTED: dict[str, str] = {}
+_SHIPPED: set[str] = set()  # the ids of the clients whose workers have the package (`ship_package`)
 
 
 def fmu_dir(fmu_blob, digest):
@@ -54,22 +55,29 @@ def run_tasks(fmu_path, tasks, client, describe=None):
     def report(key, result, seconds):
         done[key] = result
         if describe:
-            print(f"[{len(done):>{len(str(len(tasks)))}}/{len(tasks)}] {describe(key, result)} "
-                  f"({seconds:.2f} s)", file=sys.stderr, flush=True)
+            print(
+                f"[{len(done):>{len(str(len(tasks)))}}/{len(tasks)}] {describe(key, result)} "
+                f"({seconds:.2f} s)",
+                file=sys.stderr,
+                flush=True,
+            )
 
     if client is None:
         for key, function, args in tasks:
             report(key, *function(fmu_blob, digest, *args))
     else:
         from distributed import as_completed
+
         ship_package(client)
         # A unique key per call: under the default key, a hash of the content, every call
         # scatters the same FMU under the same key, and the release of the previous call's future
         # can reach the scheduler after the new scatter and drop the data under the new tasks
         # (Dask then cancels them for "lost dependencies"; tests/fmu/test_fmu_dask.py).
         blob = client.scatter(fmu_blob, broadcast=True, hash=False)
-        futures = {client.submit(function, blob, digest, *args, pure=False): key
-                   for key, function, args in tasks}
+        futures = {
+            client.submit(function, blob, digest, *args, pure=False): key
+            for key, function, args in tasks
+        }
         for future in as_completed(futures):
             report(futures[future], *future.result())
     if describe:
@@ -102,9 +110,11 @@ def local_cluster(workers):
     than one serial process (measured: 8.5 s against 7.8 s; 5.1 s with it off)."""
     import dask
     from distributed import LocalCluster
+
     with dask.config.set({"distributed.worker.profile.enabled": False}):
-        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None)
+        return LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+        )
 
 
 @contextlib.contextmanager
@@ -115,10 +125,10 @@ def dask_client(scheduler=None, workers=None, serial=False):
         yield None
         return
     from distributed import Client
+
     if scheduler:
         with Client(scheduler) as client:
             yield client
         return
     with local_cluster(workers or os.cpu_count()) as cluster, Client(cluster) as client:
         yield client
-

@@ -10,6 +10,8 @@ values. The element family is given by name in the scene files, by its code to t
 
 import json
 import pathlib
+from collections.abc import Iterator
+from typing import Any
 
 from plateimpact_tools import SCENES
 
@@ -20,7 +22,7 @@ ELEMENT = {"argyris": 1, "fvs": 2}
 LIBRARY_ONLY = ("stop_time", "solver.qp", "solver.linear", "solver.impact_law")
 
 
-def flatten(tree, prefix=""):
+def flatten(tree: dict[str, Any], prefix: str = "") -> Iterator[tuple[str, Any]]:
     """(dotted name, value) for every leaf of a grouped tree of values."""
     for key, value in tree.items():
         name = f"{prefix}{key}"
@@ -30,13 +32,14 @@ def flatten(tree, prefix=""):
             yield name, value
 
 
-def read(path):
+def read(path: str | pathlib.Path) -> tuple[dict[str, Any], float | None]:
     """(start values, stop time or None) of a JSON or TOML file of start values (module docs);
     `mesh.element` by its code."""
     path = pathlib.Path(path)
     text = path.read_text()
     if path.suffix == ".toml":
         import tomllib
+
         data = tomllib.loads(text)
     else:
         data = json.loads(text)
@@ -48,12 +51,12 @@ def read(path):
     return values, stop
 
 
-def scene(name):
+def scene(name: str) -> tuple[dict[str, Any], float | None]:
     """(start values, stop time) of the shipped scene `name` (scenes/NAME.json)."""
     return read(SCENES / f"{name}.json")
 
 
-def parse_value(name, text, variables):
+def parse_value(name: str, text: str, variables: dict[str, Any]) -> Any:
     """The start value `text` of the FMU variable `name` as its type wants it (`variables`: name
     -> fmpy ScalarVariable); `mesh.element` also takes the element's name."""
     kind = variables[name].type if name in variables else None

@@ -14,8 +14,10 @@ if the windows are independent (the statistics study, docs/accuracy/statistics.m
 """
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 # The steady-state quantities of scripts/converge: name -> (unit, one-line definition).
 QUANTITIES = {
@@ -28,29 +30,37 @@ QUANTITIES = {
     "impact_rate": ("1/s", "contact.impacts per second"),
 }
 # The Real outputs `window_values` reads, in the order of its record's columns.
-REALS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.damping_loss",
-         "energy.contact_loss", "base.mean_force"]
+REALS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "energy.total",
+    "energy.damping_loss",
+    "energy.contact_loss",
+    "base.mean_force",
+]
 
 
-def rms(x):
+def rms(x: ArrayLike) -> float:
     """Root mean square of the samples x."""
     return float(np.sqrt(np.mean(np.asarray(x) ** 2)))
 
 
-def standard_error(values):
+def standard_error(values: Sequence[float] | np.ndarray) -> float:
     """Standard deviation of `values` (ddof = 1) / √K: the standard error of their mean; NaN for
     fewer than two values."""
     k = len(values)
     return float(np.std(values, ddof=1) / math.sqrt(k)) if k > 1 else math.nan
 
 
-def window_values(reals, impacts, length, windows):
+def window_values(
+    reals: Sequence[Sequence[float]] | np.ndarray, impacts: np.ndarray, length: float, windows: int
+) -> dict[str, list[float]]:
     """Each quantity of QUANTITIES in each window: `reals` holds REALS at the first window's start
     and after each step, `impacts` the impacts of the step ending at each sample, `length` (s) is
     one window's duration."""
     c1, c2, energy, damping, contact, force = np.asarray(reals).T
     steps = (len(reals) - 1) // windows
-    out = {q: [] for q in QUANTITIES}
+    out: dict[str, list[float]] = {q: [] for q in QUANTITIES}
     for i in range(windows):
         a, b = i * steps, (i + 1) * steps  # the samples after the window's steps: a+1 … b
         inside = slice(a + 1, b + 1)
@@ -64,7 +74,7 @@ def window_values(reals, impacts, length, windows):
     return out
 
 
-def value_and_spread(quantity, values):
+def value_and_spread(quantity: str, values: ArrayLike) -> tuple[float, float]:
     """A run's value and spread from its window values: the mean and its standard error, or for
     the peak (a maximum, not a mean) the largest window peak and the standard deviation of the
     window peaks."""
@@ -75,7 +85,7 @@ def value_and_spread(quantity, values):
     return float(values.mean()), standard_error(values)
 
 
-def last_whole_periods(frequency, stop_time, step):
+def last_whole_periods(frequency: float, stop_time: float, step: float) -> tuple[int, int]:
     """The analysis window of a run from rest of `stop_time` seconds sampled every `step`: the
     last N = ⌊f·T/2⌋ whole forcing periods, so inside the run's last half. Returns (first row,
     N); with no whole period in the last half, the last half and N = 0."""
@@ -85,10 +95,13 @@ def last_whole_periods(frequency, stop_time, step):
     return int(round(0.5 * stop_time / step)), 0
 
 
-def period_blocks(periods, blocks, periods_per_step, steps):
+def period_blocks(
+    periods: int, blocks: int, periods_per_step: float, steps: int
+) -> list[tuple[int, int]]:
     """Row bounds of `blocks` blocks of whole forcing periods in a span of `periods` periods and
     `steps` steps (`periods_per_step` = f·h): block k holds periods [round(kP/B), round((k+1)P/B)),
     to the nearest step, as (a, b) slices of the rows after the span's first."""
-    edges = [min(steps, round(round(k * periods / blocks) / periods_per_step))
-             for k in range(blocks + 1)]
+    edges = [
+        min(steps, round(round(k * periods / blocks) / periods_per_step)) for k in range(blocks + 1)
+    ]
     return [(a, b) for a, b in zip(edges, edges[1:]) if b > a]

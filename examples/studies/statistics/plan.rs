@@ -186,14 +186,18 @@ pub enum Part {
     FinerReference,
     /// The Δt series behind the threshold of the start-up warning (`src/advice.rs`).
     Threshold,
+    /// The runs that close the rule of evidence's ladders (docs/studies.md, "One rule of
+    /// evidence") where the other parts leave one open.
+    Evidence,
 }
 
 impl Part {
-    pub const ALL: [Part; 4] = [
+    pub const ALL: [Part; 5] = [
         Part::Grid,
         Part::ContactLoss,
         Part::FinerReference,
         Part::Threshold,
+        Part::Evidence,
     ];
 
     pub fn label(self) -> &'static str {
@@ -202,6 +206,7 @@ impl Part {
             Part::ContactLoss => "contact-loss",
             Part::FinerReference => "finer-reference",
             Part::Threshold => "threshold",
+            Part::Evidence => "evidence",
         }
     }
 }
@@ -460,7 +465,11 @@ pub fn damping_grid() -> Grid {
 ///   28 × 20, both forcings: whether the reference, Argyris 14 × 10, has converged in the mesh;
 /// - threshold: the 35 Hz forcing on Argyris 10 × 7 with `beta` from Δt = 1e-3 to 1e-6 s,
 ///   `beta-half` from 2e-4 to 1e-6 s, `rayleigh-5k` from 1e-4 to 2e-7 s and `modal` from 1e-4
-///   to 1e-6 s: ζ_hf on both sides of the threshold of `src/advice.rs`.
+///   to 1e-6 s: ζ_hf on both sides of the threshold of `src/advice.rs`;
+/// - evidence: `beta` at 35 Hz on Argyris 14 × 10 at 1e-7 s and on Argyris 20 × 14 (modal, as
+///   above) at 1e-5 and 1e-7 s, which give the finer meshes' settings a Δt ladder (1e-5, 1e-6,
+///   1e-7 s) beside their mesh ladders: the grid's ladders there start at 1e-4 s, whose 35 Hz base
+///   force is 5 to 9 % off.
 pub fn damping_plan(grid: &Grid, dampings: Vec<DampingModel>, parts: &[Part]) -> Plan {
     let in_grid: Vec<DampingModel> = dampings
         .iter()
@@ -545,6 +554,19 @@ fn extra_runs(part: Part, model: &dyn Fn(&str) -> Option<usize>) -> Vec<Run> {
                     run(scene, "beta", (Fvs, 28, 20), 1e-6, 8),
                 ]);
             }
+        }
+        Part::Evidence => {
+            let modal = |dt| {
+                run(f35, "beta", (Argyris, 20, 14), dt, 8).map(|r| Run {
+                    settings: vec!["solver.linear=modal".to_string()],
+                    ..r
+                })
+            };
+            runs.extend([
+                run(f35, "beta", (Argyris, 14, 10), 1e-7, 8),
+                modal(1e-5),
+                modal(1e-7),
+            ]);
         }
         Part::Threshold => {
             let series: [(&str, &[f64]); 4] = [

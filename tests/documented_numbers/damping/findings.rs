@@ -378,8 +378,30 @@ pub(super) fn adds(c: &mut Claims, d: &Study) {
         d.zeta_hf(s35, "beta", "argyris:10x7", 1e-5),
     );
     c.value(
-        "1e-6 s (ζ_hf = {0.31}) has",
+        "1e-6 s (ζ_hf = {0.31}) stays",
         d.zeta_hf(s35, "rayleigh-5k", "argyris:10x7", 1e-6),
+    );
+    let spreads: Vec<f64> = ["argyris:10x7", REFERENCE, "fvs:14x10"]
+        .iter()
+        .flat_map(|m| {
+            d.runs
+                .select(&format!("{s35}/rayleigh-5k"), "mean_energy_J", m)
+        })
+        .filter(|r| r.dt <= 1e-6 * (1.0 + 1e-9))
+        .map(|r| 100.0 * r.spread / r.value.abs())
+        .collect();
+    c.range("their spreads are {0.5}–{1.8} %", &spreads);
+    let ladders = table(&format!("{DIR}damping_ladders.csv"));
+    c.holds(
+        "accepts none of these Δt ladders",
+        ["argyris:10x7", REFERENCE, "fvs:14x10"].iter().all(|m| {
+            ladders
+                .select(&format!(
+                    "scene=forced-35hz damping=rayleigh-5k quantity=mean_energy_J mesh={m} dt<=1e-6"
+                ))
+                .iter()
+                .all(|r| r.text("dt_verdict") != "accepted")
+        }),
     );
     let e = |mesh: &str| d.value(s35, "rayleigh-5k", "mean_energy_J", mesh, 1e-6);
     c.values(

@@ -12,7 +12,7 @@ mod summaries;
 
 use findings::{adds, contact_loss, criterion, finer_reference};
 use opening::{answer, pair_beta, regenerate, table_rows, why_beta};
-pub use summaries::{brief, readme};
+pub use summaries::{brief, limits_doc, readme};
 
 const DIR: &str = "docs/accuracy/";
 
@@ -43,7 +43,9 @@ const GRID: [&str; 7] = [
 /// Every mesh of the grid from Argyris 6 × 4 on, and FVS 14 × 10.
 const FINER: [&str; 4] = ["argyris:6x4", "argyris:10x7", REFERENCE, "fvs:14x10"];
 
-/// The damping study's runs and the helpers its claims use.
+/// The damping study's runs and the helpers its claims use: the runs its comparison reads, the
+/// part `evidence` (runs that only close the rule's ladders, docs/accuracy/damping.md) left out,
+/// as the write step leaves it out of its tables.
 pub struct Study {
     pub runs: Runs,
     csv: Table,
@@ -51,7 +53,7 @@ pub struct Study {
 impl Study {
     pub fn load() -> Study {
         Study {
-            runs: Runs::load(&format!("{DIR}damping.csv")),
+            runs: Runs::load_where(&format!("{DIR}damping.csv"), "part!=evidence"),
             csv: table(&format!("{DIR}damping.csv")),
         }
     }
@@ -124,9 +126,9 @@ struct Headline {
     /// and on Argyris 10 × 7.
     fvs_1e5: f64,
     argyris_1e5: f64,
-    /// The wall times (s) of FVS 14 × 10 and Argyris 10 × 7 at 1e-5 s, 35 Hz.
-    wall_fvs: f64,
-    wall_argyris: f64,
+    /// The wall times (s) of FVS 14 × 10 and Argyris 10 × 7 at 1e-5 s, 35 Hz then 60 Hz.
+    walls_fvs: [f64; 2],
+    walls_argyris: [f64; 2],
     /// The wall times (s) of both paper meshes at 1e-4 s, both scenes.
     walls_paper: Vec<f64>,
     /// The largest |error| (%) on the finer meshes of everything but the 35 Hz RMS base force,
@@ -149,8 +151,8 @@ impl Headline {
         Headline {
             fvs_1e5: d.worst("beta", &SCENES, &FOUR, &["fvs:14x10"], &[1e-5]),
             argyris_1e5: d.worst("beta", &SCENES, &FOUR, &["argyris:10x7"], &[1e-5]),
-            wall_fvs: d.wall("forced-35hz", "beta", "fvs:14x10", 1e-5),
-            wall_argyris: d.wall("forced-35hz", "beta", "argyris:10x7", 1e-5),
+            walls_fvs: SCENES.map(|s| d.wall(s, "beta", "fvs:14x10", 1e-5)),
+            walls_argyris: SCENES.map(|s| d.wall(s, "beta", "argyris:10x7", 1e-5)),
             walls_paper: SCENES
                 .iter()
                 .flat_map(|s| PAPER_MESHES.iter().map(move |m| d.wall(s, "beta", m, 1e-4)))
@@ -186,6 +188,7 @@ fn setting(model: &str, name: &str) -> f64 {
 
 pub fn claims() -> Claims {
     let mut c = Claims::new("docs/accuracy/damping.md");
+    c.defines(&["plus its 2σ and the converged value's bound, is within 1 %"]);
     let d = Study::load();
     c.given(GIVEN);
     regenerate(&mut c, &d);
@@ -279,8 +282,9 @@ const GIVEN: &[&str] = &[
     "ζ₁ = 0.5 %",
     "modal ratio of 1 %",
     "The threshold 0.25",
-    "2σ uncertainty",
-    "1 % for them",
+    "(± 2σ of the difference)",
+    "1 % of it needs",
+    "the rule, at 1 %,",
     "factor 2 or more",
     "1e-6, 1e-7 s",
     "5e-7 and 2e-7 s",

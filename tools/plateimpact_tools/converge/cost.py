@@ -4,6 +4,8 @@ parameters `solver.free_dofs` and `solver.backend`, read in Initialization mode:
 
 import functools
 import hashlib
+from pathlib import Path
+from typing import Any
 
 from plateimpact_tools.fmu_dask import fmu_dir
 
@@ -29,8 +31,8 @@ RUN_COST = {
 COMMUNICATION_STEP_US = 9.23  # doStep and the reads through fmpy, on Argyris 2 × 1
 
 
-@functools.lru_cache(maxsize=None)
-def _plate_size(fmu_path, start_values):
+@functools.cache
+def _plate_size(fmu_path: str, start_values: tuple[tuple[str, Any], ...]) -> tuple[int, str]:
     from fmpy import read_model_description
     from fmpy.fmi2 import FMU2Slave
     from fmpy.simulation import apply_start_values
@@ -39,8 +41,12 @@ def _plate_size(fmu_path, start_values):
     directory = fmu_dir(blob, hashlib.sha256(blob).hexdigest())
     md = read_model_description(directory)
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=directory,
-                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="plate-size")
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=directory,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="plate-size",
+    )
     try:
         fmu.instantiate()
         fmu.setupExperiment(startTime=0.0)
@@ -54,18 +60,21 @@ def _plate_size(fmu_path, start_values):
     return n, BACKENDS[code]
 
 
-def plate_size(fmu_path, start_values):
+def plate_size(fmu_path: str | Path, start_values: dict[str, Any]) -> tuple[int, str]:
     """(free dofs, "modal" or "sparse") of the plate the start values describe, as the FMU at
     `fmu_path` reports them; asked once per distinct set of start values."""
     return _plate_size(str(fmu_path), tuple(sorted(start_values.items())))
 
 
-def run_cost(size, element, dt, simulated, h):
+def run_cost(size: tuple[int, str], element: int, dt: float, simulated: float, h: float) -> float:
     """The model's CPU seconds (RUN_COST) of a run of `simulated` seconds at Δt = `dt` of a plate
     of `element` whose `size` is (free dofs, backend) (`plate_size`), outputs read every `h`: the
     set-up, simulated/Δt internal steps and simulated/h communication steps."""
     free, backend = size
     (setup, p_setup), (step, p_step) = RUN_COST[(element, backend)]
     n = free / 1000
-    return (setup * n ** p_setup + 1e-6 * step * n ** p_step * simulated / dt
-            + 1e-6 * COMMUNICATION_STEP_US * simulated / h)
+    return (
+        setup * n**p_setup
+        + 1e-6 * step * n**p_step * simulated / dt
+        + 1e-6 * COMMUNICATION_STEP_US * simulated / h
+    )

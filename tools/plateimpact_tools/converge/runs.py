@@ -53,6 +53,7 @@ class Start:
     """How a run starts (module docs): an amplitude ramp of `ramp` seconds and a frequency
     sweep from (1 + `sweep`)·f over `sweep_time` seconds, both driven through the input (none
     when `sweep_time` = 0); `preload` Pa added to the scene's initial preload."""
+
     name: str
     ramp: float = 0.0
     sweep: float = 0.0
@@ -69,10 +70,12 @@ def starts(names, scene, transient):
     made = {
         "abrupt": Start("abrupt"),
         "ramp": Start("ramp", ramp=RAMP * transient, sweep_time=RAMP * transient),
-        "sweep-up": Start("sweep-up", ramp=SWEEP_RAMP * transient, sweep=-SWEEP,
-                          sweep_time=RAMP * transient),
-        "sweep-down": Start("sweep-down", ramp=SWEEP_RAMP * transient, sweep=SWEEP,
-                            sweep_time=RAMP * transient),
+        "sweep-up": Start(
+            "sweep-up", ramp=SWEEP_RAMP * transient, sweep=-SWEEP, sweep_time=RAMP * transient
+        ),
+        "sweep-down": Start(
+            "sweep-down", ramp=SWEEP_RAMP * transient, sweep=SWEEP, sweep_time=RAMP * transient
+        ),
         "kick": Start("kick", preload=kick_pressure(scene)),
     }
     return [made[name] for name in names]
@@ -95,8 +98,8 @@ def kick_pressure(scene):
     if get("obstacle.lower_enabled", True):
         gaps.append(get("obstacle.lower", -0.01))
     target = (min(gaps, key=abs) if gaps else get("base.amplitude", 0.0)) * KICK
-    stiffness = young * thickness ** 3 / (12 * (1 - poisson ** 2))
-    return target * 8 * stiffness / length ** 4
+    stiffness = young * thickness**3 / (12 * (1 - poisson**2))
+    return target * 8 * stiffness / length**4
 
 
 def base_motion(start, amplitude, frequency, t):
@@ -115,9 +118,11 @@ def base_motion(start, amplitude, frequency, t):
     else:
         a, da, dda = 1.0, 0.0, 0.0
     sin, cos = math.sin(phi), math.cos(phi)
-    return (amplitude * a * sin,
-            amplitude * (da * sin + a * dphi * cos),
-            amplitude * (dda * sin + 2 * da * dphi * cos + a * (ddphi * cos - dphi * dphi * sin)))
+    return (
+        amplitude * a * sin,
+        amplitude * (da * sin + a * dphi * cos),
+        amplitude * (dda * sin + 2 * da * dphi * cos + a * (ddphi * cos - dphi * dphi * sin)),
+    )
 
 
 def input_drive(start, amplitude, frequency, t):
@@ -128,13 +133,16 @@ def input_drive(start, amplitude, frequency, t):
     z, dz, ddz = base_motion(start, amplitude, frequency, t)
     omega = 2 * math.pi * frequency
     sin, cos = math.sin(omega * t), math.cos(omega * t)
-    return (z - amplitude * sin, dz - amplitude * omega * cos,
-            ddz + amplitude * omega * omega * sin)
+    return (
+        z - amplitude * sin,
+        dz - amplitude * omega * cos,
+        ddz + amplitude * omega * omega * sin,
+    )
 
 
-_CALLBACKS = []
+_CALLBACKS: list[object] = []
 # instance name -> [(category, message)] of the warnings and errors that instance logged.
-_LOGGED = {}
+_LOGGED: dict[str, list[tuple[str, str]]] = {}
 
 
 def stderr_callbacks():
@@ -146,15 +154,20 @@ def stderr_callbacks():
         from ctypes import byref
 
         from fmpy.fmi1 import calloc, free
-        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+        from fmpy.fmi2 import (
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
         from fmpy.logging import addLoggerProxy
 
         def log(_env, instance, status, category, message):
             if status >= 1:  # fmi2Warning and worse
                 print(f"[{category.decode()}] {message.decode()}", file=sys.stderr, flush=True)
                 _LOGGED.setdefault(instance.decode(), []).append(
-                    (category.decode(), message.decode()))
+                    (category.decode(), message.decode())
+                )
 
         callbacks = fmi2CallbackFunctions()
         callbacks.logger = fmi2CallbackLoggerTYPE(log)
@@ -165,8 +178,7 @@ def stderr_callbacks():
     return _CALLBACKS[0]
 
 
-def run_setting(fmu_blob, digest, start_values, start, h, transient_steps, window_steps,
-                windows):
+def run_setting(fmu_blob, digest, start_values, start, h, transient_steps, window_steps, windows):
     """Simulates the scene `start_values` from `start` (a Start), communicating every `h` seconds
     (a multiple of its Δt): `transient_steps` steps, then `windows` windows of `window_steps`
     steps each. Returns ({"windows": {quantity: [K window values]}, "warning": w, "cpu": c}, c),
@@ -181,12 +193,17 @@ def run_setting(fmu_blob, digest, start_values, start, h, transient_steps, windo
     vr = {v.name: v.valueReference for v in md.modelVariables}
     cpu0 = time.thread_time()
     instance = f"converge-{uuid.uuid4().hex}"
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=directory,
-                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance)
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=directory,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName=instance,
+    )
     values = dict(start_values)
     if start.preload:
-        values["initial.preload_pressure"] = values.get("initial.preload_pressure", 0.0) \
-            + start.preload
+        values["initial.preload_pressure"] = (
+            values.get("initial.preload_pressure", 0.0) + start.preload
+        )
     amplitude = float(values.get("base.amplitude", 0.0))
     frequency = float(values.get("base.frequency", 10.0))
     n = windows * window_steps
@@ -210,9 +227,14 @@ def run_setting(fmu_blob, digest, start_values, start, h, transient_steps, windo
         if drive_steps:
             send(0)
         fmu.exitInitializationMode()
-        warning = next((message for category, message in _LOGGED.get(instance, [])
-                        if category == "logStatusWarning" and message.startswith(ADVICE_PREFIX)),
-                       None)
+        warning = next(
+            (
+                message
+                for category, message in _LOGGED.get(instance, [])
+                if category == "logStatusWarning" and message.startswith(ADVICE_PREFIX)
+            ),
+            None,
+        )
         real_vrs = [vr[name] for name in REALS]
         impacts_vr = [vr["contact.impacts"]]
         for k in range(transient_steps):
@@ -229,5 +251,8 @@ def run_setting(fmu_blob, digest, start_values, start, h, transient_steps, windo
         fmu.freeInstance()
         _LOGGED.pop(instance, None)
     cpu = time.thread_time() - cpu0
-    return {"windows": window_values(reals, impacts, window_steps * h, windows),
-            "warning": warning, "cpu": cpu}, cpu
+    return {
+        "windows": window_values(reals, impacts, window_steps * h, windows),
+        "warning": warning,
+        "cpu": cpu,
+    }, cpu

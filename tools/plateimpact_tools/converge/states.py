@@ -17,6 +17,7 @@ between the states and no tolerance passes.
 
 import dataclasses
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -25,8 +26,13 @@ import numpy as np
 # keeps a chance difference from being called a second state (0.3 % per comparison if Gaussian).
 STATE_SIGMAS = 3.0
 
+# A run's statistics at one setting: {quantity: (value, spread)}.
+Stats = dict[str, tuple[float, float]]
 
-def differ(a, b, quantities, tolerance, sigmas=STATE_SIGMAS):
+
+def differ(
+    a: Stats, b: Stats, quantities: Sequence[str], tolerance: float, sigmas: float = STATE_SIGMAS
+) -> bool:
     """Whether two runs' statistics show different responses: one impacts (a positive
     `impact_rate`) and the other does not, or a quantity of `quantities` differs by more than
     `tolerance` of the pair's mean magnitude and more than `sigmas` of the difference's spread.
@@ -46,17 +52,18 @@ def differ(a, b, quantities, tolerance, sigmas=STATE_SIGMAS):
 class State:
     """A group of starts at one setting: `name` (A, B, …), `starts` (their indices, in start
     order)."""
+
     name: str
-    starts: list
+    starts: list[int]
 
 
-def group(stats, quantities, tolerance):
+def group(stats: Sequence[Stats], quantities: Sequence[str], tolerance: float) -> list[State]:
     """The states of one setting: `stats` holds per start (in start order) {quantity: (value,
     spread)}; runs are linked when they do not `differ` and each state is a connected group.
     Returns States named by share (largest first, ties by first start)."""
     parent = list(range(len(stats)))
 
-    def root(i):
+    def root(i: int) -> int:
         while parent[i] != i:
             i = parent[i]
         return i
@@ -65,14 +72,14 @@ def group(stats, quantities, tolerance):
         for j in range(i):
             if not differ(stats[i], stats[j], quantities, tolerance):
                 parent[root(i)] = root(j)
-    groups = {}
+    groups: dict[int, list[int]] = {}
     for i in range(len(stats)):
         groups.setdefault(root(i), []).append(i)
     ordered = sorted(groups.values(), key=lambda members: (-len(members), members[0]))
     return [State(name_of(k), members) for k, members in enumerate(ordered)]
 
 
-def name_of(k):
+def name_of(k: int) -> str:
     """A, B, …, Z, AA, AB, …"""
     name = ""
     k += 1
@@ -82,16 +89,18 @@ def name_of(k):
     return name
 
 
-def state_value(stats, members, quantity):
+def state_value(
+    stats: Sequence[Stats], members: Sequence[int], quantity: str
+) -> tuple[float, float]:
     """(value, spread) of the state made of the starts `members` at a setting whose per-start
     statistics are `stats` (module docs)."""
     values = np.array([stats[m][quantity][0] for m in members])
     spreads = np.array([stats[m][quantity][1] for m in members])
-    windows = math.sqrt(float(np.mean(spreads ** 2)))
+    windows = math.sqrt(float(np.mean(spreads**2)))
     scatter = float(np.std(values, ddof=1)) if len(members) > 1 else 0.0
     return float(values.mean()), max(windows, scatter)
 
 
-def impacting(stats, members):
+def impacting(stats: Sequence[Stats], members: Sequence[int]) -> tuple[bool, ...]:
     """Whether each of the starts `members` impacts at a setting: a tuple of booleans."""
     return tuple(stats[m]["impact_rate"][0] > 0 for m in members)

@@ -26,8 +26,19 @@ from plateimpact_tools.converge import runs
 from plateimpact_tools.converge.cost import plate_size
 
 # (element, nx, ny): Argyris (1) and FVS (2), modal up to 2000 free dofs and sparse above.
-MESHES = [(1, 10, 7), (1, 14, 8), (1, 20, 10), (1, 21, 12), (1, 30, 15), (1, 40, 20),
-          (2, 14, 10), (2, 20, 10), (2, 30, 15), (2, 40, 20), (2, 60, 30)]
+MESHES = [
+    (1, 10, 7),
+    (1, 14, 8),
+    (1, 20, 10),
+    (1, 21, 12),
+    (1, 30, 15),
+    (1, 40, 20),
+    (2, 14, 10),
+    (2, 20, 10),
+    (2, 30, 15),
+    (2, 40, 20),
+    (2, 60, 30),
+]
 TINY = (1, 2, 1)  # its step is the communication step's cost: doStep and the reads through fmpy
 DT = 1e-4
 SHORT = 2000  # steps of the short run
@@ -48,8 +59,10 @@ def measure(fmu, blob, digest, scene, element, nx, ny):
     step at h = Δt)."""
     values = dict(scene, **{"mesh.element": element, "mesh.nx": nx, "mesh.ny": ny})
     n, kind = plate_size(fmu, values)
-    cpu = [runs.run_setting(blob, digest, values, runs.Start("abrupt"), DT, 0, steps // 2, 2)[1]
-           for steps in (SHORT, SHORT + EXTRA[kind])]
+    cpu = [
+        runs.run_setting(blob, digest, values, runs.Start("abrupt"), DT, 0, steps // 2, 2)[1]
+        for steps in (SHORT, SHORT + EXTRA[kind])
+    ]
     return kind, n, cpu[0], 1e6 * (cpu[1] - cpu[0]) / EXTRA[kind]
 
 
@@ -72,19 +85,25 @@ def main():
         steps.setdefault((element, kind), []).append((n, own))
         if kind == "modal":
             setups.setdefault((element, kind), []).append((n, setup))
-        print(f"{element},{nx},{ny},{n},{kind},{short:.3f},{us:.2f},{own:.2f},{setup:.3f}",
-              flush=True)
+        print(
+            f"{element},{nx},{ny},{n},{kind},{short:.3f},{us:.2f},{own:.2f},{setup:.3f}", flush=True
+        )
     print(f"COMMUNICATION_STEP_US = {overhead:.3g}", file=sys.stderr)
-    print("RUN_COST = {  # (element, backend): ((set-up s, p), (µs per internal step, p)), "
-          "c at 1000 free dofs", file=sys.stderr)
+    print(
+        "RUN_COST = {  # (element, backend): ((set-up s, p), (µs per internal step, p)), "
+        "c at 1000 free dofs",
+        file=sys.stderr,
+    )
     for key, pts in sorted(steps.items()):
         setup = "(0.0, 0.0)"
         if key in setups:
             c, p = fit(setups[key])
             setup = f"({c:.3g}, {p:.2f})"
         c, p = fit(pts)
-        print(f"    {key}: ({setup}, ({c:.3g}, {p:.2f})),  # {pts[0][0]}–{pts[-1][0]} free dofs",
-              file=sys.stderr)
+        print(
+            f"    {key}: ({setup}, ({c:.3g}, {p:.2f})),  # {pts[0][0]}–{pts[-1][0]} free dofs",
+            file=sys.stderr,
+        )
     print("}", file=sys.stderr)
 
 

@@ -30,7 +30,8 @@ when the spread is what fails, else more budget.
 import math
 import sys
 
-from plateimpact_tools.converge import rule, runs
+from plateimpact_tools import rule
+from plateimpact_tools.converge import runs
 from plateimpact_tools.converge.cost import plate_size, run_cost
 from plateimpact_tools.converge.states import group, impacting, state_value
 from plateimpact_tools.fmu_dask import run_tasks
@@ -76,8 +77,22 @@ class Study:
     index). `run(client)` returns the verdict line; `plateimpact_tools.converge.report` writes
     the outputs."""
 
-    def __init__(self, fmu, scene, quantities, tolerance, budget, *, transient, window, windows,
-                 dt0, mesh, start_names=tuple(runs.START_NAMES), progress=True):
+    def __init__(
+        self,
+        fmu,
+        scene,
+        quantities,
+        tolerance,
+        budget,
+        *,
+        transient,
+        window,
+        windows,
+        dt0,
+        mesh,
+        start_names=tuple(runs.START_NAMES),
+        progress=True,
+    ):
         self.fmu, self.scene, self.quantities = fmu, dict(scene), list(quantities)
         self.tolerance, self.budget, self.mesh = tolerance, budget, mesh
         self.dt0 = self.h = dt0
@@ -108,11 +123,27 @@ class Study:
 
     def execute(self, client, phase, settings):
         """Runs every start of each of `settings` not run yet, in parallel on the client."""
-        todo = [s + (k,) for s in settings for k in range(len(self.starts))
-                if s + (k,) not in self.results]
-        tasks = [(run, runs.run_setting, (self.start_values(run[:3]), self.starts[run[3]], self.h,
-                                          self.transient_steps, self.window_steps, self.windows))
-                 for run in todo]
+        todo = [
+            s + (k,)
+            for s in settings
+            for k in range(len(self.starts))
+            if s + (k,) not in self.results
+        ]
+        tasks = [
+            (
+                run,
+                runs.run_setting,
+                (
+                    self.start_values(run[:3]),
+                    self.starts[run[3]],
+                    self.h,
+                    self.transient_steps,
+                    self.window_steps,
+                    self.windows,
+                ),
+            )
+            for run in todo
+        ]
         done = run_tasks(self.fmu, tasks, client)
         for run in todo:
             result = done[run]
@@ -127,22 +158,31 @@ class Study:
                 stats = self.stats(setting)
                 shown = "; ".join(
                     f"{s.name} ({len(s.starts)}/{len(self.starts)}) {q} = "
-                    f"{state_value(stats, s.starts, q)[0]:.6g}" for s in states)
-                print(f"  {phase}: {self.describe(setting)}: {shown}; spent {self.spent:.1f} of "
-                      f"{self.budget:g} CPU s", file=sys.stderr, flush=True)
+                    f"{state_value(stats, s.starts, q)[0]:.6g}"
+                    for s in states
+                )
+                print(
+                    f"  {phase}: {self.describe(setting)}: {shown}; spent {self.spent:.1f} of "
+                    f"{self.budget:g} CPU s",
+                    file=sys.stderr,
+                    flush=True,
+                )
 
     def stats(self, setting):
         """Per start (in start order) {quantity: (value, spread)} at a run setting."""
-        return [{q: value_and_spread(q, self.results[setting + (k,)]["windows"][q])
-                 for q in QUANTITIES} for k in range(len(self.starts))]
+        return [
+            {q: value_and_spread(q, self.results[setting + (k,)]["windows"][q]) for q in QUANTITIES}
+            for k in range(len(self.starts))
+        ]
 
     def states_at(self, setting):
         return group(self.stats(setting), self.compared, self.tolerance)
 
     def cost(self, setting):
         """CPU seconds of one run of a setting: the mean over its starts."""
-        return sum(self.results[setting + (k,)]["cpu"] for k in range(len(self.starts))) \
-            / len(self.starts)
+        return sum(self.results[setting + (k,)]["cpu"] for k in range(len(self.starts))) / len(
+            self.starts
+        )
 
     def warning(self, setting):
         return self.results[setting + (0,)]["warning"]
@@ -163,8 +203,10 @@ class Study:
         the model's communication step does not fully hold (Argyris 4 × 2 → 9 × 5, 5.6× the
         cells, 2.1× the CPU), so there the estimate errs towards stopping early."""
         e, simulated, h = self.element, self.simulated, self.h
-        return self.cost(known) * (run_cost(self.size(setting), e, setting[2], simulated, h)
-                                   / run_cost(self.size(known), e, known[2], simulated, h))
+        return self.cost(known) * (
+            run_cost(self.size(setting), e, setting[2], simulated, h)
+            / run_cost(self.size(known), e, known[2], simulated, h)
+        )
 
     def fits(self, estimate):
         return self.spent + estimate <= self.budget
@@ -182,12 +224,17 @@ class Study:
         ladder, Δt for a mesh ladder) that ends at this ladder's last setting, if one does."""
         kind = ladder[0][:2] == ladder[-1][:2]  # a Δt ladder keeps its mesh
         for phase, other in self.ladders:
-            if other is not ladder and other[-1] == ladder[-1] and phase in self.judgements \
-                    and (other[0][:2] == other[-1][:2]) != kind:
+            if (
+                other is not ladder
+                and other[-1] == ladder[-1]
+                and phase in self.judgements
+                and (other[0][:2] == other[-1][:2]) != kind
+            ):
                 verdicts = self.judgements[phase][1]
                 if all(j.accepted for per in verdicts.values() for j in per.values()):
-                    return {name: {q: j.bound for q, j in per.items()}
-                            for name, per in verdicts.items()}
+                    return {
+                        name: {q: j.bound for q, j in per.items()} for name, per in verdicts.items()
+                    }
         return {}
 
     def judge(self, ladder):
@@ -205,19 +252,22 @@ class Study:
             verdicts[state.name] = {}
             for q in self.quantities:
                 if len(ladder) < SPAN:
-                    verdicts[state.name][q] = rule.Judgement(False, math.inf, None,
-                                                             "fewer than three settings")
+                    verdicts[state.name][q] = rule.Judgement(
+                        False, math.inf, None, "fewer than three settings"
+                    )
                     continue
                 values, spreads = self.state_ladder(ladder[-SPAN:], state.starts, q)
                 ratios = (refinement_ratio(*ladder[-3:-1]), refinement_ratio(*ladder[-2:]))
                 taken = other.get(state.name, {}).get(q, 0.0)
-                verdicts[state.name][q] = rule.judge(values, spreads, ratios, self.tolerance,
-                                                     extrapolate=trusted, taken=taken)
+                verdicts[state.name][q] = rule.judge(
+                    values, spreads, ratios, self.tolerance, extrapolate=trusted, taken=taken
+                )
             signatures = {impacting(self.stats(s), state.starts) for s in ladder[-SPAN:]}
             if len(signatures) > 1 or len(set(next(iter(signatures)))) > 1:
                 for q, j in verdicts[state.name].items():
                     verdicts[state.name][q] = rule.Judgement(
-                        False, j.bound, j.order, "its starts impact at one setting, not another")
+                        False, j.bound, j.order, "its starts impact at one setting, not another"
+                    )
         return states, verdicts
 
     def passes(self, phase, ladder):
@@ -233,11 +283,17 @@ class Study:
         self.ladders.append((phase, ladder))
         missing = [s for s in ladder if s + (0,) not in self.results]
         if missing:
-            guess = (len(self.starts) * sum(self.estimate(reference, s) for s in missing)
-                     if reference else 0.0)
+            guess = (
+                len(self.starts) * sum(self.estimate(reference, s) for s in missing)
+                if reference
+                else 0.0
+            )
             if reference and not self.fits(guess):
-                return self.stop(phase, f"running {', '.join(map(self.describe, missing))} (about "
-                                 f"{guess:.3g} CPU s) would exceed the budget")
+                return self.stop(
+                    phase,
+                    f"running {', '.join(map(self.describe, missing))} (about "
+                    f"{guess:.3g} CPU s) would exceed the budget",
+                )
             self.execute(client, phase, missing)
         while not self.passes(phase, ladder):
             b = ladder[-1]
@@ -246,8 +302,11 @@ class Study:
             nxt = refine(b)
             guess = len(self.starts) * self.estimate(b, nxt)
             if not self.fits(guess):
-                return self.stop(phase, f"the next refinement, {self.describe(nxt)} (about "
-                                 f"{guess:.3g} CPU s), would exceed the budget")
+                return self.stop(
+                    phase,
+                    f"the next refinement, {self.describe(nxt)} (about "
+                    f"{guess:.3g} CPU s), would exceed the budget",
+                )
             ladder.append(nxt)
             self.execute(client, phase, [nxt])
         return ladder[-1]
@@ -256,6 +315,7 @@ class Study:
         """The Δt ladder; with --mesh then the mesh ladder at the Δt found, then Δt again on the
         mesh found, and so on, until the recommended setting closes both a passing Δt ladder and
         a passing mesh ladder."""
+
         def halve(s):
             return s[0], s[1], s[2] / 2
 
@@ -263,8 +323,14 @@ class Study:
             return refine_mesh(s[0], s[1]) + (s[2],)
 
         nx, ny = self.mesh0
-        rec = self.climb(client, "dt-1", [(nx, ny, self.dt0 / 2 ** k) for k in range(SPAN)],
-                         halve, MAX_DT_LEVELS, None)
+        rec = self.climb(
+            client,
+            "dt-1",
+            [(nx, ny, self.dt0 / 2**k) for k in range(SPAN)],
+            halve,
+            MAX_DT_LEVELS,
+            None,
+        )
         meshes = [self.mesh0]  # the mesh ladder so far
         for round_ in range(1, MAX_ROUNDS + 1):
             if rec is None or not self.mesh:
@@ -275,14 +341,13 @@ class Study:
                     start.append(finer_mesh(start[-1]))
             else:
                 start = [m + rec[2:] for m in meshes[-SPAN:-1]] + [rec]
-            new = self.climb(client, f"mesh-{round_}", start, finer_mesh,
-                             MAX_MESH_LEVELS + 1, rec)
+            new = self.climb(client, f"mesh-{round_}", start, finer_mesh, MAX_MESH_LEVELS + 1, rec)
             if new is None or new == rec:
                 rec = new
                 break
             meshes = [s[:2] for s in self.ladders[-1][1]]
             rec = new
-            start = [rec[:2] + (rec[2] * 2 ** k,) for k in range(SPAN - 1, -1, -1)]
+            start = [rec[:2] + (rec[2] * 2**k,) for k in range(SPAN - 1, -1, -1)]
             new = self.climb(client, f"dt-{round_ + 1}", start, halve, MAX_DT_LEVELS, rec)
             if new is None or new == rec:
                 rec = new
@@ -291,8 +356,11 @@ class Study:
         else:
             if self.mesh and rec is not None:
                 # Each round moved both ladders: the last Δt found was never checked in the mesh.
-                return self.stop(f"dt-{MAX_ROUNDS + 1}", f"the mesh and Δt ladders alternated "
-                                 f"{MAX_ROUNDS} times without both passing at one setting")
+                return self.stop(
+                    f"dt-{MAX_ROUNDS + 1}",
+                    f"the mesh and Δt ladders alternated "
+                    f"{MAX_ROUNDS} times without both passing at one setting",
+                )
         if rec is None:
             return self.verdict
         self.recommended = rec
@@ -337,8 +405,9 @@ class Study:
             for q in self.quantities:
                 v = state_value(stats, state.starts, q)[0]
                 bound = self.bounds(state.name, q)
-                parts.append(f"{q} = {v:.6g} {QUANTITIES[q][0]} ± "
-                             f"{100 * bound / abs(v) if v else 0:.2g} %")
+                parts.append(
+                    f"{q} = {v:.6g} {QUANTITIES[q][0]} ± {100 * bound / abs(v) if v else 0:.2g} %"
+                )
             return ", ".join(parts)
 
         n = len(self.starts)
@@ -346,10 +415,13 @@ class Study:
             found = f"{values(states[0])}; one steady state ({n} of {n} starts)"
         else:
             found = f"{len(states)} steady states: " + "; ".join(
-                f"{s.name} ({len(s.starts)} of {n} starts) {values(s)}" for s in states)
-        return (f"converged: {found}; settings {self.settings_text(rec)}; cost "
-                f"{self.cost(rec) / self.simulated:.3g} CPU s per simulated s; "
-                f"{self.warning_text(rec)}")
+                f"{s.name} ({len(s.starts)} of {n} starts) {values(s)}" for s in states
+            )
+        return (
+            f"converged: {found}; settings {self.settings_text(rec)}; cost "
+            f"{self.cost(rec) / self.simulated:.3g} CPU s per simulated s; "
+            f"{self.warning_text(rec)}"
+        )
 
     def stop(self, phase, why):
         """Ends the study `not converged`: each state's trend along the last ladder and advice."""
@@ -367,24 +439,36 @@ class Study:
                 texts.append(text)
                 if not j.accepted and 2 * spreads[-1] > self.tolerance * abs(values[-1]):
                     spread_limited.append(q)
-            label = (f"{state.name} ({len(state.starts)} of {len(self.starts)} starts) "
-                     if len(states) > 1 else "")
+            label = (
+                f"{state.name} ({len(state.starts)} of {len(self.starts)} starts) "
+                if len(states) > 1
+                else ""
+            )
             self.trends.append(label + "; ".join(texts))
         finest = min(ladder, key=lambda s: (s[2], -s[0] * s[1]))
         warning = self.warning(finest)
         if warning:
             advice = f"the FMU warns at {self.describe(finest)}: {warning}"
         elif spread_limited:
-            advice = (f"the spread of {', '.join(dict.fromkeys(spread_limited))} exceeds the "
-                      "tolerance: longer or more windows (--window, --windows), or a looser "
-                      "--tolerance")
+            advice = (
+                f"the spread of {', '.join(dict.fromkeys(spread_limited))} exceeds the "
+                "tolerance: longer or more windows (--window, --windows), or a looser "
+                "--tolerance"
+            )
         else:
-            advice = ("the values still move: raise --budget-seconds, start the ladder lower "
-                      "(--dt) or loosen --tolerance")
+            advice = (
+                "the values still move: raise --budget-seconds, start the ladder lower "
+                "(--dt) or loosen --tolerance"
+            )
         self.advice = advice
-        found = (f"{len(states)} steady states at {self.describe(ladder[-1])}; "
-                 if len(states) > 1 else "")
-        self.verdict = (f"not converged: {phase}: {why} (spent {self.spent:.1f} of "
-                        f"{self.budget:g} CPU s); {found}trend: {' | '.join(self.trends)}; "
-                        f"advice: {advice}")
+        found = (
+            f"{len(states)} steady states at {self.describe(ladder[-1])}; "
+            if len(states) > 1
+            else ""
+        )
+        self.verdict = (
+            f"not converged: {phase}: {why} (spent {self.spent:.1f} of "
+            f"{self.budget:g} CPU s); {found}trend: {' | '.join(self.trends)}; "
+            f"advice: {advice}"
+        )
         return None

@@ -34,7 +34,10 @@ def first_angular_frequency():
     """omega_1 (rad/s) of the paper's 10 x 7 Argyris plate, from the modes example."""
     out = subprocess.run(
         ["cargo", "run", "--release", "--quiet", "--example", "modes", "--", "argyris", "10", "7"],
-        cwd=ROOT, check=True, capture_output=True, text=True,
+        cwd=ROOT,
+        check=True,
+        capture_output=True,
+        text=True,
     ).stdout
     f1 = float(re.search(r"mode 1: ([0-9.]+) Hz", out).group(1))
     return 2 * math.pi * f1
@@ -44,10 +47,24 @@ def run(alpha, workdir):
     """The released plate with damping.mass_proportional = alpha; the CSV columns as arrays."""
     path = pathlib.Path(workdir) / f"release-{alpha}.csv"
     subprocess.run(
-        ["cargo", "run", "--release", "--quiet", "--example", "scene", "--", "energy",
-         "obstacle.lower_enabled=false", f"stop_time={STOP}",
-         f"damping.mass_proportional={alpha}", "--out", str(path)],
-        cwd=ROOT, check=True, stderr=subprocess.DEVNULL,
+        [
+            "cargo",
+            "run",
+            "--release",
+            "--quiet",
+            "--example",
+            "scene",
+            "--",
+            "energy",
+            "obstacle.lower_enabled=false",
+            f"stop_time={STOP}",
+            f"damping.mass_proportional={alpha}",
+            "--out",
+            str(path),
+        ],
+        cwd=ROOT,
+        check=True,
+        stderr=subprocess.DEVNULL,
     )
     data = np.genfromtxt(path, delimiter=",", names=True)
     return {name: data[name] for name in data.dtype.names}
@@ -70,20 +87,29 @@ def main():
     with tempfile.TemporaryDirectory() as workdir:
         undamped, damped = run(0.0, workdir), run(alpha, workdir)
     zeta, peaks = measured_zeta(damped["t"], damped["corner1"])
-    print(f"omega_1 = {omega:.2f} rad/s, alpha = {alpha:.4f} 1/s for zeta_1 = {ZETA}; "
-          f"measured from {peaks} peaks: zeta_1 = {zeta:.5f}")
+    print(
+        f"omega_1 = {omega:.2f} rad/s, alpha = {alpha:.4f} 1/s for zeta_1 = {ZETA}; "
+        f"measured from {peaks} peaks: zeta_1 = {zeta:.5f}"
+    )
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True)
     t = damped["t"]
     ax1.plot(undamped["t"], 1e3 * undamped["corner1"], lw=0.8, color="0.6", label="undamped")
-    ax1.plot(t, 1e3 * damped["corner1"], lw=0.9, color="C0",
-             label=f"Rayleigh, α = {alpha:.2f} 1/s (ζ₁ = {ZETA})")
+    ax1.plot(
+        t,
+        1e3 * damped["corner1"],
+        lw=0.9,
+        color="C0",
+        label=f"Rayleigh, α = {alpha:.2f} 1/s (ζ₁ = {ZETA})",
+    )
     envelope = 1e3 * damped["corner1"][0] * np.exp(-ZETA * omega * t)
     ax1.plot(t, envelope, "--", lw=0.8, color="C3", label="exp(−ζ₁ω₁t)")
     ax1.plot(t, -envelope, "--", lw=0.8, color="C3")
     ax1.set_ylabel("corner u(Lx, 0) (mm)")
     ax1.legend(loc="upper right", fontsize=8)
-    ax1.set_title(f"Released plate, no obstacles (10 × 7 Argyris, Δt = 1e-4 s): measured ζ₁ = {zeta:.4f}")
+    ax1.set_title(
+        f"Released plate, no obstacles (10 × 7 Argyris, Δt = 1e-4 s): measured ζ₁ = {zeta:.4f}"
+    )
     ax2.plot(undamped["t"], undamped["energy_total"], lw=0.9, color="0.6", label="undamped")
     ax2.plot(t, damped["energy_total"], lw=0.9, color="C0", label="damped")
     ax2.set_xlabel("t (s)")

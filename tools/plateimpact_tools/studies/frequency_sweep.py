@@ -57,21 +57,38 @@ from plateimpact_tools.plotting import pyplot, save
 from plateimpact_tools.scene_values import ELEMENT, parse_value
 from plateimpact_tools.windows import last_whole_periods, period_blocks, rms, standard_error
 
-OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total", "energy.contact_loss",
-           "contact.active_nodes", "contact.impacts"]
+OUTPUTS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "energy.total",
+    "energy.contact_loss",
+    "contact.active_nodes",
+    "contact.impacts",
+]
 CONFIGS = {  # name -> start values that define it
     "obstacles": {"obstacle.lower_enabled": True, "obstacle.upper_enabled": True},
     "free": {"obstacle.lower_enabled": False, "obstacle.upper_enabled": False},
 }
 # Parameters the natural frequencies depend on (passed to the modes example).
 MODAL = ("plate.", "material.", "mesh.")
-COLUMNS = ["config", "params", "base.frequency", "peak_corner_m", "impacts", "impacts_window",
-           "periods", "dissipated_per_period_J", "energy_change_per_period_J", "max_active_nodes",
-           "trajectory_sha256"]
+COLUMNS = [
+    "config",
+    "params",
+    "base.frequency",
+    "peak_corner_m",
+    "impacts",
+    "impacts_window",
+    "periods",
+    "dissipated_per_period_J",
+    "energy_change_per_period_J",
+    "max_active_nodes",
+    "trajectory_sha256",
+]
 
 
 # ----------------------------------------------------------------------------------------------
 # One run (executed on a worker)
+
 
 def run_one(fmu_blob, digest, start_values, stop_time):
     """Simulates one parameter set, communicating at every internal step, and returns its summary
@@ -81,12 +98,18 @@ def run_one(fmu_blob, digest, start_values, stop_time):
     step = float(start_values.get("solver.time_step", 1e-4))
     directory = fmu_dir(fmu_blob, digest)
     t0 = time.perf_counter()
-    result = fmpy.simulate_fmu(directory, start_values=dict(start_values), stop_time=stop_time,
-                               output_interval=step, output=OUTPUTS)
+    result = fmpy.simulate_fmu(
+        directory,
+        start_values=dict(start_values),
+        stop_time=stop_time,
+        output_interval=step,
+        output=OUTPUTS,
+    )
     wall = time.perf_counter() - t0
     t = result["time"]
-    corners = np.maximum(np.abs(result["corner1.displacement"]),
-                         np.abs(result["corner2.displacement"]))
+    corners = np.maximum(
+        np.abs(result["corner1.displacement"]), np.abs(result["corner2.displacement"])
+    )
     active = result["contact.active_nodes"]
     energy = result["energy.total"]
     first, periods = last_whole_periods(float(start_values["base.frequency"]), stop_time, step)
@@ -101,12 +124,14 @@ def run_one(fmu_blob, digest, start_values, stop_time):
         "peak_corner_m": float(corners[window].max()),
         "impacts": int(impacts.sum()),
         # The impacts of the step that ends at the window's first point happened before it.
-        "impacts_window": int(impacts[first + 1:].sum()),
+        "impacts_window": int(impacts[first + 1 :].sum()),
         "periods": periods,
-        "dissipated_per_period_J": (float(loss[n_last] - loss[first]) / periods
-                                    if periods else float("nan")),
-        "energy_change_per_period_J": (float(energy[n_last] - energy[first]) / periods
-                                       if periods else float("nan")),
+        "dissipated_per_period_J": (
+            float(loss[n_last] - loss[first]) / periods if periods else float("nan")
+        ),
+        "energy_change_per_period_J": (
+            float(energy[n_last] - energy[first]) / periods if periods else float("nan")
+        ),
         "max_active_nodes": int(active.max()),
         "trajectory_sha256": digest_out.hexdigest(),
     }
@@ -115,6 +140,7 @@ def run_one(fmu_blob, digest, start_values, stop_time):
 
 # ----------------------------------------------------------------------------------------------
 # Continuation: one instance sweeps up and down, carrying the plate's state (executed on a worker)
+
 
 class BaseSchedule:
     """The base motion z(t) = c·sin φ(t) of a continuation sweep: frequency f_j during dwell j,
@@ -164,17 +190,35 @@ class BaseSchedule:
         self.step += steps
 
 
-CONTINUATION_OUTPUTS = ["corner1.displacement", "corner2.displacement", "energy.total",
-                        "energy.contact_loss", "base.force"]
+CONTINUATION_OUTPUTS = [
+    "corner1.displacement",
+    "corner2.displacement",
+    "energy.total",
+    "energy.contact_loss",
+    "base.force",
+]
 CONTINUATION_COUNTS = ["contact.impacts", "contact.active_nodes"]
-CONTINUATION_COLUMNS = ["config", "params", "direction", "base.frequency", "periods",
-                        "rms_corner_m", "rms_corner_spread_m", "peak_corner_m", "impacts_per_period",
-                        "dissipated_per_period_J", "energy_change_per_period_J", "mean_energy_J",
-                        "mean_abs_base_force_N", "max_active_nodes"]
+CONTINUATION_COLUMNS = [
+    "config",
+    "params",
+    "direction",
+    "base.frequency",
+    "periods",
+    "rms_corner_m",
+    "rms_corner_spread_m",
+    "peak_corner_m",
+    "impacts_per_period",
+    "dissipated_per_period_J",
+    "energy_change_per_period_J",
+    "mean_energy_J",
+    "mean_abs_base_force_N",
+    "max_active_nodes",
+]
 
 
-def continuation_run(fmu_blob, digest, start_values, frequencies, amplitude, settle, measure,
-                     step=None):
+def continuation_run(
+    fmu_blob, digest, start_values, frequencies, amplitude, settle, measure, step=None
+):
     """One FMU instance, communicating every `step` seconds (default: every internal step Δt; a
     multiple of Δt keeps the communication points on the grid), dwells at each frequency of
     `frequencies` in turn (Hz, ascending), then at each again in descending order, with the base
@@ -201,8 +245,12 @@ def continuation_run(fmu_blob, digest, start_values, frequencies, amplitude, set
     values = dict(start_values, **{"base.amplitude": 0.0})
     schedule = BaseSchedule(amplitude, h)
     t0 = time.perf_counter()
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=directory,
-                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="continuation")
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=directory,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="continuation",
+    )
     rows = []
     try:
         fmu.instantiate()
@@ -235,8 +283,9 @@ def continuation_run(fmu_blob, digest, start_values, frequencies, amplitude, set
                 counts = np.empty((steps - first + 1, len(count_vrs)), dtype=np.int64)
                 for k in range(steps):
                     send(k)
-                    fmu.doStep(currentCommunicationPoint=(schedule.step + k) * h,
-                               communicationStepSize=h)
+                    fmu.doStep(
+                        currentCommunicationPoint=(schedule.step + k) * h, communicationStepSize=h
+                    )
                     if k + 1 >= first:
                         record[k + 1 - first] = fmu.getReal(out_vrs)
                         counts[k + 1 - first] = fmu.getInteger(count_vrs)
@@ -259,8 +308,10 @@ def dwell_summary(direction, frequency, periods, record, counts, periods_per_ste
     energy, loss = record[:, 2], record[:, 3]
     corner1, corner2, _, _, force = record[1:].T
     impacts, active = counts[1:].T
-    blocks = [rms(corner1[a:b])
-              for a, b in period_blocks(periods, RMS_BLOCKS, periods_per_step, len(corner1))]
+    blocks = [
+        rms(corner1[a:b])
+        for a, b in period_blocks(periods, RMS_BLOCKS, periods_per_step, len(corner1))
+    ]
     return {
         "direction": direction,
         "base.frequency": frequency,
@@ -279,6 +330,7 @@ def dwell_summary(direction, frequency, periods, record, counts, periods_per_ste
 
 # ----------------------------------------------------------------------------------------------
 # The sweep (client side)
+
 
 @dataclasses.dataclass(frozen=True)
 class Run:
@@ -306,8 +358,17 @@ def start_values_of(run, fixed):
     return values
 
 
-def sweep(fmu_path, frequencies, *, fixed=None, param_grid=None, configs=("obstacles", "free"),
-          stop_time=1.0, client=None, progress=True):
+def sweep(
+    fmu_path,
+    frequencies,
+    *,
+    fixed=None,
+    param_grid=None,
+    configs=("obstacles", "free"),
+    stop_time=1.0,
+    client=None,
+    progress=True,
+):
     """Runs the sweep from rest (serially if client is None, else as Dask tasks) and returns the
     rows, sorted by configuration, swept parameters and frequency, whatever order the runs finish
     in."""
@@ -315,11 +376,17 @@ def sweep(fmu_path, frequencies, *, fixed=None, param_grid=None, configs=("obsta
     runs = plan(frequencies, configs, dict(param_grid or {}))
 
     def describe(run, summary):
-        return (f"{run.config:9s} f={run.frequency:g} Hz{_params_text(run.params)}: peak "
-                f"{1e3 * summary['peak_corner_m']:.3f} mm, {summary['impacts']} impacts")
+        return (
+            f"{run.config:9s} f={run.frequency:g} Hz{_params_text(run.params)}: peak "
+            f"{1e3 * summary['peak_corner_m']:.3f} mm, {summary['impacts']} impacts"
+        )
 
-    done = run_tasks(fmu_path, [(run, run_one, (start_values_of(run, fixed), stop_time))
-                                for run in runs], client, progress and describe)
+    done = run_tasks(
+        fmu_path,
+        [(run, run_one, (start_values_of(run, fixed), stop_time)) for run in runs],
+        client,
+        progress and describe,
+    )
     rows = []
     for run in runs:
         row = {"config": run.config, "params": run.params, "base.frequency": run.frequency}
@@ -328,9 +395,20 @@ def sweep(fmu_path, frequencies, *, fixed=None, param_grid=None, configs=("obsta
     return rows
 
 
-def continuation(fmu_path, frequencies, *, amplitude, fixed=None, param_grid=None,
-                 configs=("obstacles", "free"), settle=1.5, measure=1.0, step=None, client=None,
-                 progress=True):
+def continuation(
+    fmu_path,
+    frequencies,
+    *,
+    amplitude,
+    fixed=None,
+    param_grid=None,
+    configs=("obstacles", "free"),
+    settle=1.5,
+    measure=1.0,
+    step=None,
+    client=None,
+    progress=True,
+):
     """Runs one continuation sweep (`continuation_run`: up, then down) per configuration and
     swept parameter set, serially or as Dask tasks, and returns their rows: by configuration and
     parameters, then in sweep order (up, ascending; then down, descending)."""
@@ -341,8 +419,9 @@ def continuation(fmu_path, frequencies, *, amplitude, fixed=None, param_grid=Non
     for run in runs:
         values = start_values_of(run, fixed)
         del values["base.frequency"]
-        tasks.append((run, continuation_run,
-                      (values, frequencies, amplitude, settle, measure, step)))
+        tasks.append(
+            (run, continuation_run, (values, frequencies, amplitude, settle, measure, step))
+        )
 
     def describe(run, rows):
         return f"{run.config}{_params_text(run.params)}: {len(rows)} dwells"
@@ -360,16 +439,33 @@ def natural_frequencies(values, count=6):
     element = values.get("mesh.element", 1)
     element = {v: k for k, v in ELEMENT.items()}.get(element, element)
     nx, ny = values.get("mesh.nx", 10), values.get("mesh.ny", 7)
-    overrides = [f"{k}={_json(v)}" for k, v in sorted(values.items())
-                 if k.startswith(MODAL) and k not in ("mesh.element", "mesh.nx", "mesh.ny")]
-    command = ["cargo", "run", "--release", "--quiet", "--example", "modes", "--",
-               str(element), str(nx), str(ny), *overrides]
+    overrides = [
+        f"{k}={_json(v)}"
+        for k, v in sorted(values.items())
+        if k.startswith(MODAL) and k not in ("mesh.element", "mesh.nx", "mesh.ny")
+    ]
+    command = [
+        "cargo",
+        "run",
+        "--release",
+        "--quiet",
+        "--example",
+        "modes",
+        "--",
+        str(element),
+        str(nx),
+        str(ny),
+        *overrides,
+    ]
     done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True)
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed ({done.returncode}): {done.stderr.strip()}")
     text = done.stdout
-    found = [float(line.split(":")[1].split()[0]) for line in text.splitlines()
-             if line.startswith("mode ")]
+    found = [
+        float(line.split(":")[1].split()[0])
+        for line in text.splitlines()
+        if line.startswith("mode ")
+    ]
     return found[:count]
 
 
@@ -406,9 +502,12 @@ def branches_differ(up, down):
     """Whether the up and down rows of one frequency show different responses: the test that
     tells the steady states of scripts/converge apart (`converge.states.differ`), on the RMS
     corner with BRANCH_TOLERANCE and BRANCH_SIGMAS."""
+
     def stats(row):
-        return {"impact_rate": (row["impacts_per_period"], 0.0),
-                "rms_corner": (row["rms_corner_m"], row["rms_corner_spread_m"])}
+        return {
+            "impact_rate": (row["impacts_per_period"], 0.0),
+            "rms_corner": (row["rms_corner_m"], row["rms_corner_spread_m"]),
+        }
 
     return differ(stats(up), stats(down), ["rms_corner"], BRANCH_TOLERANCE, BRANCH_SIGMAS)
 
@@ -428,44 +527,72 @@ def plot_continuation(rows, modes_by_params, path, title):
     """RMS and peak corner, impacts and dissipation per period against frequency, up and down."""
     plt = pyplot()
 
-    fig, axes = plt.subplots(4, 1, figsize=(9, 11), sharex=True,
-                             gridspec_kw={"height_ratios": [3, 2, 2, 2]})
+    fig, axes = plt.subplots(
+        4, 1, figsize=(9, 11), sharex=True, gridspec_kw={"height_ratios": [3, 2, 2, 2]}
+    )
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     keys = sorted({(r["config"], r["params"]) for r in rows})
     differ = hysteresis(rows)
-    panels = [("rms_corner_m", 1e3, "RMS corner u(Lx, 0) (mm)"),
-              ("peak_corner_m", 1e3, "peak free-corner |u| (mm)"),
-              ("impacts_per_period", 1.0, "impacts per period"),
-              ("dissipated_per_period_J", 1.0, "removed at the obstacles\nper period (J)")]
+    panels = [
+        ("rms_corner_m", 1e3, "RMS corner u(Lx, 0) (mm)"),
+        ("peak_corner_m", 1e3, "peak free-corner |u| (mm)"),
+        ("impacts_per_period", 1.0, "impacts per period"),
+        ("dissipated_per_period_J", 1.0, "removed at the obstacles\nper period (J)"),
+    ]
     for i, key in enumerate(keys):
         color = colors[i % len(colors)]
         label = ("with obstacles" if key[0] == "obstacles" else "without obstacles") + "".join(
-            f", {k}={v}" for k, v in key[1])
-        for direction, style in (("up", dict(ls="-", marker="^")), ("down", dict(ls="--", marker="v"))):
-            sel = [r for r in rows if (r["config"], r["params"]) == key and r["direction"] == direction]
+            f", {k}={v}" for k, v in key[1]
+        )
+        for direction, style in (
+            ("up", dict(ls="-", marker="^")),
+            ("down", dict(ls="--", marker="v")),
+        ):
+            sel = [
+                r for r in rows if (r["config"], r["params"]) == key and r["direction"] == direction
+            ]
             sel.sort(key=lambda r: r["base.frequency"])
             f = [r["base.frequency"] for r in sel]
             for ax, (column, scale, _) in zip(axes, panels):
-                ax.plot(f, [scale * r[column] for r in sel], color=color, lw=1.1, ms=3.5,
-                        label=f"{label}, sweeping {direction}", **style)
+                ax.plot(
+                    f,
+                    [scale * r[column] for r in sel],
+                    color=color,
+                    lw=1.1,
+                    ms=3.5,
+                    label=f"{label}, sweeping {direction}",
+                    **style,
+                )
         for f in differ[key]:
             for ax in axes:
                 ax.axvspan(f - 0.5, f + 0.5, color=color, alpha=0.12, lw=0)
     for combo in {k[1] for k in keys}:
         for k, fk in enumerate(modes_by_params.get(combo, [])):
-            if min(r["base.frequency"] for r in rows) <= fk <= max(r["base.frequency"] for r in rows):
+            if (
+                min(r["base.frequency"] for r in rows)
+                <= fk
+                <= max(r["base.frequency"] for r in rows)
+            ):
                 for ax in axes:
                     ax.axvline(fk, color="k", ls=":", lw=1)
-                axes[0].annotate(f"f{k + 1} = {fk:.1f} Hz", (fk, 1), xycoords=("data", "axes fraction"),
-                                 xytext=(3, -12), textcoords="offset points", fontsize=8)
+                axes[0].annotate(
+                    f"f{k + 1} = {fk:.1f} Hz",
+                    (fk, 1),
+                    xycoords=("data", "axes fraction"),
+                    xytext=(3, -12),
+                    textcoords="offset points",
+                    fontsize=8,
+                )
     for ax, (_, _, ylabel) in zip(axes, panels):
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
     axes[0].set_yscale("log")
     axes[0].legend(fontsize=7, loc="upper right")
-    axes[0].set_title(title + "\nshaded: the two branches differ (RMS by more than "
-                      f"{BRANCH_TOLERANCE:.0%} and {BRANCH_SIGMAS:g}σ, or only one impacts)",
-                      fontsize=9)
+    axes[0].set_title(
+        title + "\nshaded: the two branches differ (RMS by more than "
+        f"{BRANCH_TOLERANCE:.0%} and {BRANCH_SIGMAS:g}σ, or only one impacts)",
+        fontsize=9,
+    )
     axes[-1].set_xlabel("base frequency (Hz)")
     save(fig, path)
 
@@ -473,8 +600,9 @@ def plot_continuation(rows, modes_by_params, path, title):
 def plot(rows, modes_by_params, path, title):
     plt = pyplot()
 
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True,
-                                   gridspec_kw={"height_ratios": [3, 2]})
+    fig, (ax1, ax2) = plt.subplots(
+        2, 1, figsize=(9, 7), sharex=True, gridspec_kw={"height_ratios": [3, 2]}
+    )
     combos = sorted({row["params"] for row in rows})
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     styles = {"obstacles": dict(ls="-", marker="o", ms=3), "free": dict(ls="--", marker="", ms=0)}
@@ -489,17 +617,37 @@ def plot(rows, modes_by_params, path, title):
                 continue
             f = [r["base.frequency"] for r in sel]
             label = ("with obstacles" if config == "obstacles" else "without obstacles") + suffix
-            ax1.semilogy(f, [1e3 * r["peak_corner_m"] for r in sel], color=color, lw=1.2,
-                         label=label, **styles[config])
+            ax1.semilogy(
+                f,
+                [1e3 * r["peak_corner_m"] for r in sel],
+                color=color,
+                lw=1.2,
+                label=label,
+                **styles[config],
+            )
             if config == "obstacles":
-                ax2.plot(f, [r["dissipated_per_period_J"] for r in sel], color=color, lw=1.2,
-                         marker="o", ms=3, label="dissipated per period" + suffix)
+                ax2.plot(
+                    f,
+                    [r["dissipated_per_period_J"] for r in sel],
+                    color=color,
+                    lw=1.2,
+                    marker="o",
+                    ms=3,
+                    label="dissipated per period" + suffix,
+                )
         for k, fk in enumerate(modes_by_params.get(combo, [])):
             if fmin <= fk <= fmax:
                 for ax in (ax1, ax2):
                     ax.axvline(fk, color=color, ls=":", lw=1)
-                ax1.annotate(f"f{k + 1} = {fk:.1f} Hz", (fk, 1), xycoords=("data", "axes fraction"),
-                             xytext=(3, -12), textcoords="offset points", fontsize=8, color=color)
+                ax1.annotate(
+                    f"f{k + 1} = {fk:.1f} Hz",
+                    (fk, 1),
+                    xycoords=("data", "axes fraction"),
+                    xytext=(3, -12),
+                    textcoords="offset points",
+                    fontsize=8,
+                    color=color,
+                )
     ax1.set_ylabel("peak free-corner |u|, last half (mm)")
     ax1.set_title(title, fontsize=10)
     ax1.legend(fontsize=8, loc="upper right")
@@ -513,6 +661,7 @@ def plot(rows, modes_by_params, path, title):
 # ----------------------------------------------------------------------------------------------
 # Command line
 
+
 def parse_frequencies(text):
     if ":" in text:
         start, stop, step = (float(x) for x in text.split(":"))
@@ -522,48 +671,94 @@ def parse_frequencies(text):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__.splitlines()[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--fmu", default=str(DEFAULT_FMU))
-    parser.add_argument("--continuation", action="store_true",
-                        help="one instance per configuration sweeps up then down, carrying its "
-                             "state (writes continuation.csv and continuation.png)")
-    parser.add_argument("--frequencies",
-                        help="start:stop:step or a comma list, Hz (default 5:120:1; with "
-                             "--continuation 30:90:1)")
-    parser.add_argument("--amplitude", type=float, default=0.002,
-                        help="base amplitude c (m), default 0.002 (inside the ±0.01 m gap)")
-    parser.add_argument("--zeta1", type=float,
-                        help="damping ratio of the first mode: sets damping.mass_proportional to "
-                             "2·zeta1·ω₁ with the library's ω₁ of the plate of the fixed "
-                             "parameters (default 0, the paper's undamped plate; with "
-                             "--continuation 0.01)")
-    parser.add_argument("--stop-time", type=float, default=1.0,
-                        help="horizon T (s) of each run from rest, default 1")
-    parser.add_argument("--settle", type=float, default=1.5,
-                        help="with --continuation: time (s) at each frequency before measuring")
-    parser.add_argument("--measure", type=float, default=1.0,
-                        help="with --continuation: time (s) measured at each frequency")
-    parser.add_argument("--comm-step", type=float,
-                        help="with --continuation: communication step (s), a multiple of "
-                             "solver.time_step (default: solver.time_step)")
-    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                        help="a fixed FMU parameter (repeatable)")
-    parser.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2,...",
-                        help="a further swept FMU parameter (repeatable; cartesian product)")
-    parser.add_argument("--configs", default="obstacles,free",
-                        help="obstacles, free or both (default): the plate with/without obstacles")
+    parser.add_argument(
+        "--continuation",
+        action="store_true",
+        help="one instance per configuration sweeps up then down, carrying its "
+        "state (writes continuation.csv and continuation.png)",
+    )
+    parser.add_argument(
+        "--frequencies",
+        help="start:stop:step or a comma list, Hz (default 5:120:1; with --continuation 30:90:1)",
+    )
+    parser.add_argument(
+        "--amplitude",
+        type=float,
+        default=0.002,
+        help="base amplitude c (m), default 0.002 (inside the ±0.01 m gap)",
+    )
+    parser.add_argument(
+        "--zeta1",
+        type=float,
+        help="damping ratio of the first mode: sets damping.mass_proportional to "
+        "2·zeta1·ω₁ with the library's ω₁ of the plate of the fixed "
+        "parameters (default 0, the paper's undamped plate; with "
+        "--continuation 0.01)",
+    )
+    parser.add_argument(
+        "--stop-time",
+        type=float,
+        default=1.0,
+        help="horizon T (s) of each run from rest, default 1",
+    )
+    parser.add_argument(
+        "--settle",
+        type=float,
+        default=1.5,
+        help="with --continuation: time (s) at each frequency before measuring",
+    )
+    parser.add_argument(
+        "--measure",
+        type=float,
+        default=1.0,
+        help="with --continuation: time (s) measured at each frequency",
+    )
+    parser.add_argument(
+        "--comm-step",
+        type=float,
+        help="with --continuation: communication step (s), a multiple of "
+        "solver.time_step (default: solver.time_step)",
+    )
+    parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a fixed FMU parameter (repeatable)",
+    )
+    parser.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=V1,V2,...",
+        help="a further swept FMU parameter (repeatable; cartesian product)",
+    )
+    parser.add_argument(
+        "--configs",
+        default="obstacles,free",
+        help="obstacles, free or both (default): the plate with/without obstacles",
+    )
     group = parser.add_mutually_exclusive_group()
-    group.add_argument("--workers", type=int, default=os.cpu_count(),
-                       help="LocalCluster worker processes (default: the cores)")
+    group.add_argument(
+        "--workers",
+        type=int,
+        default=os.cpu_count(),
+        help="LocalCluster worker processes (default: the cores)",
+    )
     group.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler")
     group.add_argument("--serial", action="store_true", help="no Dask, one run after the other")
     parser.add_argument("--no-modes", action="store_true", help="do not mark natural frequencies")
-    parser.add_argument("--out", default=str(ROOT / "out" / "sweep"),
-                        help="output folder for the CSV and the plot")
+    parser.add_argument(
+        "--out", default=str(ROOT / "out" / "sweep"), help="output folder for the CSV and the plot"
+    )
     args = parser.parse_args(argv)
 
     from fmpy import read_model_description
+
     variables = {v.name: v for v in read_model_description(args.fmu).modelVariables}
     fixed = {}
     for item in args.set:
@@ -585,25 +780,50 @@ def main(argv=None):
             raise SystemExit("give --zeta1 or --set damping.mass_proportional, not both")
         omega1 = 2 * math.pi * natural_frequencies(fixed, count=1)[0]
         fixed["damping.mass_proportional"] = 2 * zeta1 * omega1
-    frequencies = parse_frequencies(args.frequencies or
-                                    ("30:90:1" if args.continuation else "5:120:1"))
+    frequencies = parse_frequencies(
+        args.frequencies or ("30:90:1" if args.continuation else "5:120:1")
+    )
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
     with dask_client(args.scheduler, args.workers, args.serial) as client:
-        where = (f"scheduler {args.scheduler}" if args.scheduler else
-                 "serial" if args.serial else f"LocalCluster, {args.workers} workers")
-        print(f"{'continuation' if args.continuation else 'sweep'}: {len(frequencies)} frequencies"
-              f" x {len(configs)} configurations x {int(np.prod([len(v) for v in grid.values()]))}"
-              f" parameter sets on {where}", file=sys.stderr)
+        where = (
+            f"scheduler {args.scheduler}"
+            if args.scheduler
+            else "serial"
+            if args.serial
+            else f"LocalCluster, {args.workers} workers"
+        )
+        print(
+            f"{'continuation' if args.continuation else 'sweep'}: {len(frequencies)} frequencies"
+            f" x {len(configs)} configurations x {int(np.prod([len(v) for v in grid.values()]))}"
+            f" parameter sets on {where}",
+            file=sys.stderr,
+        )
         if args.continuation:
-            rows = continuation(args.fmu, frequencies, amplitude=args.amplitude, fixed=fixed,
-                                param_grid=grid, configs=configs, settle=args.settle,
-                                measure=args.measure, step=args.comm_step, client=client)
+            rows = continuation(
+                args.fmu,
+                frequencies,
+                amplitude=args.amplitude,
+                fixed=fixed,
+                param_grid=grid,
+                configs=configs,
+                settle=args.settle,
+                measure=args.measure,
+                step=args.comm_step,
+                client=client,
+            )
         else:
             fixed["base.amplitude"] = args.amplitude
-            rows = sweep(args.fmu, frequencies, fixed=fixed, param_grid=grid, configs=configs,
-                         stop_time=args.stop_time, client=client)
+            rows = sweep(
+                args.fmu,
+                frequencies,
+                fixed=fixed,
+                param_grid=grid,
+                configs=configs,
+                stop_time=args.stop_time,
+                client=client,
+            )
 
     modes = {}
     if not args.no_modes:
@@ -616,33 +836,49 @@ def main(argv=None):
                 print(f"natural frequencies not marked: {e}", file=sys.stderr)
     for combo, fs in modes.items():
         extra = _params_text(combo)
-        print(f"natural frequencies{extra}: " + ", ".join(f"{f:.2f}" for f in fs) + " Hz",
-              file=sys.stderr)
-    settings = ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
-                         for k, v in sorted(fixed.items()))
+        print(
+            f"natural frequencies{extra}: " + ", ".join(f"{f:.2f}" for f in fs) + " Hz",
+            file=sys.stderr,
+        )
+    settings = ", ".join(
+        f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in sorted(fixed.items())
+    )
     if args.continuation:
         write_csv(rows, out / "continuation.csv", list(grid), CONTINUATION_COLUMNS)
-        plot_continuation(rows, modes, out / "continuation.png",
-                          f"PlateImpact swept up then down, c = {args.amplitude * 1e3:g} mm, "
-                          f"ζ₁ = {zeta1:g}, {args.settle:g} s + {args.measure:g} s per frequency"
-                          + (f" ({settings})" if settings else ""))
+        plot_continuation(
+            rows,
+            modes,
+            out / "continuation.png",
+            f"PlateImpact swept up then down, c = {args.amplitude * 1e3:g} mm, "
+            f"ζ₁ = {zeta1:g}, {args.settle:g} s + {args.measure:g} s per frequency"
+            + (f" ({settings})" if settings else ""),
+        )
         for (config, combo), fs in hysteresis(rows).items():
             extra = _params_text(combo)
-            print(f"{config}{extra}: up and down branches differ at "
-                  + (", ".join(f"{f:g}" for f in fs) + " Hz" if fs else "no frequency"),
-                  file=sys.stderr)
+            print(
+                f"{config}{extra}: up and down branches differ at "
+                + (", ".join(f"{f:g}" for f in fs) + " Hz" if fs else "no frequency"),
+                file=sys.stderr,
+            )
         print(f"wrote {out / 'continuation.csv'} and {out / 'continuation.png'}", file=sys.stderr)
         return
     write_csv(rows, out / "sweep.csv", list(grid))
-    plot(rows, modes, out / "sweep.png",
-         f"PlateImpact frequency sweep, T = {args.stop_time:g} s ({settings})")
+    plot(
+        rows,
+        modes,
+        out / "sweep.png",
+        f"PlateImpact frequency sweep, T = {args.stop_time:g} s ({settings})",
+    )
     for config in configs:
         for combo in sorted({row["params"] for row in rows}):
             sel = [r for r in rows if r["config"] == config and r["params"] == combo]
             best = max(sel, key=lambda r: r["peak_corner_m"])
             extra = _params_text(combo)
-            print(f"{config}{extra}: largest response {1e3 * best['peak_corner_m']:.3f} mm at "
-                  f"{best['base.frequency']:g} Hz", file=sys.stderr)
+            print(
+                f"{config}{extra}: largest response {1e3 * best['peak_corner_m']:.3f} mm at "
+                f"{best['base.frequency']:g} Hz",
+                file=sys.stderr,
+            )
     print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.png'}", file=sys.stderr)
 
 

@@ -50,8 +50,16 @@ def combine(rows):
         first[key] = min(float(r[key]) for r in rows)
     for key in MEMORY:
         first[key] = statistics.median(float(r[key]) for r in rows)
-    for key in ["nx", "ny", "free_dofs", "constrained", "steps", "free_steps", "qp_steps",
-                "most_active"]:
+    for key in [
+        "nx",
+        "ny",
+        "free_dofs",
+        "constrained",
+        "steps",
+        "free_steps",
+        "qp_steps",
+        "most_active",
+    ]:
         first[key] = int(first[key])
     first["runs"] = len(rows)
     return first
@@ -71,32 +79,58 @@ def fit(points):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("runs", nargs="+", help="CSV output of `cargo bench --bench solver -- --scale`")
+    parser.add_argument(
+        "runs", nargs="+", help="CSV output of `cargo bench --bench solver -- --scale`"
+    )
     parser.add_argument("--out", default=str(ROOT / "docs" / "scale"))
     args = parser.parse_args()
     out = pathlib.Path(args.out)
-    rows = sorted((combine(r) for r in read_runs(args.runs).values()),
-                  key=lambda r: (r["element"], r["free_dofs"]))
+    rows = sorted(
+        (combine(r) for r in read_runs(args.runs).values()),
+        key=lambda r: (r["element"], r["free_dofs"]),
+    )
 
-    columns = ["case", "element", "nx", "ny", "backend", "free_dofs", "constrained", "assembly_s",
-               "setup_s", "steps", "us_per_step", "free_steps", "free_us", "qp_steps", "qp_us",
-               "most_active", "peak_setup_mib", "peak_end_mib", "runs"]
+    columns = [
+        "case",
+        "element",
+        "nx",
+        "ny",
+        "backend",
+        "free_dofs",
+        "constrained",
+        "assembly_s",
+        "setup_s",
+        "steps",
+        "us_per_step",
+        "free_steps",
+        "free_us",
+        "qp_steps",
+        "qp_us",
+        "most_active",
+        "peak_setup_mib",
+        "peak_end_mib",
+        "runs",
+    ]
     with open(out / "scale.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=columns)
         writer.writeheader()
         writer.writerows(rows)
 
-    print("| mesh | backend | free dofs | constrained | set-up s (assembly + backend) | "
-          "µs per contact-free step | µs per step with contact | µs per step, all | "
-          "peak MiB after set-up / at end |")
+    print(
+        "| mesh | backend | free dofs | constrained | set-up s (assembly + backend) | "
+        "µs per contact-free step | µs per step with contact | µs per step, all | "
+        "peak MiB after set-up / at end |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         setup = r["assembly_s"] + r["setup_s"]
-        print(f"| {r['element']} {r['nx']} × {r['ny']} | {r['backend'].lower()} | {r['free_dofs']} | "
-              f"{r['constrained']} | {setup:.2f} ({r['assembly_s']:.2f} + {r['setup_s']:.2f}) | "
-              f"{number(r['free_us'])} | {number(r['qp_us'])} ({r['qp_steps']} steps, up to "
-              f"{r['most_active']} contacts) | {number(r['us_per_step'])} | "
-              f"{r['peak_setup_mib']:.0f} / {r['peak_end_mib']:.0f} |")
+        print(
+            f"| {r['element']} {r['nx']} × {r['ny']} | {r['backend'].lower()} | {r['free_dofs']} | "
+            f"{r['constrained']} | {setup:.2f} ({r['assembly_s']:.2f} + {r['setup_s']:.2f}) | "
+            f"{number(r['free_us'])} | {number(r['qp_us'])} ({r['qp_steps']} steps, up to "
+            f"{r['most_active']} contacts) | {number(r['us_per_step'])} | "
+            f"{r['peak_setup_mib']:.0f} / {r['peak_end_mib']:.0f} |"
+        )
 
     quantities = [
         ("free_us", "µs per contact-free step"),
@@ -105,7 +139,9 @@ def main():
         ("peak_end_mib", "peak MiB"),
     ]
     print()
-    print("| element | backend | meshes (free dofs) | " + " | ".join(q[1] for q in quantities) + " |")
+    print(
+        "| element | backend | meshes (free dofs) | " + " | ".join(q[1] for q in quantities) + " |"
+    )
     print("|---|---|---|" + "---|" * len(quantities))
     for element in ELEMENTS:
         for backend in MARKERS:
@@ -114,8 +150,11 @@ def main():
                 continue
             exponents = []
             for key, _ in quantities:
-                value = (lambda r: r["assembly_s"] + r["setup_s"]) if key == "setup" else (
-                    lambda r, key=key: r[key])
+                value = (
+                    (lambda r: r["assembly_s"] + r["setup_s"])
+                    if key == "setup"
+                    else (lambda r, key=key: r[key])
+                )
                 p, _ = fit([(r["free_dofs"], value(r)) for r in group])
                 exponents.append(f"n^{p:.2f}")
             span = f"{group[0]['free_dofs']}–{group[-1]['free_dofs']}"
@@ -130,15 +169,36 @@ def main():
             n = [r["free_dofs"] for r in group]
             color = COLORS[element]
             label = f"{element} ({backend.lower()})"
-            axes[0].loglog(n, [r["free_us"] for r in group], marker=marker, color=color,
-                           label=f"{label}, contact-free")
-            axes[0].loglog(n, [r["qp_us"] for r in group], marker=marker, color=color,
-                           linestyle="--", label=f"{label}, with contact")
-            axes[1].loglog(n, [r["assembly_s"] + r["setup_s"] for r in group], marker=marker,
-                           color=color, label=label)
-            axes[2].loglog(n, [r["peak_end_mib"] for r in group], marker=marker, color=color,
-                           label=label)
-    titles = ["cost of a step (µs)", "set-up: assembly and backend (s)", "peak resident memory (MiB)"]
+            axes[0].loglog(
+                n,
+                [r["free_us"] for r in group],
+                marker=marker,
+                color=color,
+                label=f"{label}, contact-free",
+            )
+            axes[0].loglog(
+                n,
+                [r["qp_us"] for r in group],
+                marker=marker,
+                color=color,
+                linestyle="--",
+                label=f"{label}, with contact",
+            )
+            axes[1].loglog(
+                n,
+                [r["assembly_s"] + r["setup_s"] for r in group],
+                marker=marker,
+                color=color,
+                label=label,
+            )
+            axes[2].loglog(
+                n, [r["peak_end_mib"] for r in group], marker=marker, color=color, label=label
+            )
+    titles = [
+        "cost of a step (µs)",
+        "set-up: assembly and backend (s)",
+        "peak resident memory (MiB)",
+    ]
     for axis, title in zip(axes, titles):
         axis.set_xlabel("free dofs n")
         axis.set_title(title)
@@ -146,8 +206,10 @@ def main():
     axes[0].legend(fontsize=7)
     axes[1].legend(fontsize=8)
     axes[2].legend(fontsize=8)
-    figure.suptitle("forced-35hz, Δt = 1e-4 s, 500 steps, meshes 10 × 7 to 100 × 50 "
-                    "(squares: modal backend, circles: sparse)")
+    figure.suptitle(
+        "forced-35hz, Δt = 1e-4 s, 500 steps, meshes 10 × 7 to 100 × 50 "
+        "(squares: modal backend, circles: sparse)"
+    )
     save(figure, out / "scale.png")
 
 

@@ -13,8 +13,12 @@ Definitions used throughout (statistics.md repeats them):
 - the *error* of a run is |v − v_ref| / |v_ref|, and its *uncertainty* 2·√(s² + s_ref²) / |v_ref|;
 - a run *reaches* a tolerance when error + uncertainty ≤ tolerance for it and for every smaller Δt
   on the same mesh (so that a lucky crossing of the reference does not count);
-- a quantity has *settled in Δt* on a mesh from the largest Δt from which every run on that mesh
-  agrees with the mesh's smallest-Δt run (at least the two smallest Δt must agree).
+- a quantity *stays within its noise* on a mesh from the largest Δt from which every run on that
+  mesh agrees with the mesh's smallest-Δt run (at least the two smallest Δt must agree):
+  DIR/statistics_within_noise.csv lists that Δt per scene, quantity and mesh. It is no verdict of
+  convergence: with this study's spreads (σ up to 5 %) it is far weaker than the rule of evidence
+  (`plateimpact_tools.studies.evidence`, the rule of scripts/converge at 1 %), whose verdicts
+  DIR/statistics_verdicts.csv and statistics_ladders.csv hold.
 """
 
 import csv
@@ -23,7 +27,7 @@ import sys
 from pathlib import Path
 
 from plateimpact_tools.plotting import pyplot, save
-from plateimpact_tools.studies import pages
+from plateimpact_tools.studies import evidence, pages
 
 plt = pyplot()
 
@@ -52,8 +56,14 @@ QUANTITIES = {
     "energy_0.3s_J": ("energy at 0.3 s", "J", 1.0),
     "impacts_to_0.3s": ("impacts up to 0.3 s", "", 1.0),
 }
-FORCED_Q = ["rms_corner_m", "peak_corner_m", "impacts_per_period", "contact_loss_per_period_J",
-            "mean_energy_J", "mean_abs_base_force_N"]
+FORCED_Q = [
+    "rms_corner_m",
+    "peak_corner_m",
+    "impacts_per_period",
+    "contact_loss_per_period_J",
+    "mean_energy_J",
+    "mean_abs_base_force_N",
+]
 ENERGY_Q = ["first_impact_s", "energy_0.1s_J", "energy_0.3s_J", "impacts_to_0.3s"]
 # The forced quantities that can change with Δt (the peak is pinned at the obstacle in every run).
 SETTLING_Q = [q for q in FORCED_Q if q != "peak_corner_m"]
@@ -82,8 +92,9 @@ class Study:
             m["key"] = (m["element"], int(m["nx"]), int(m["ny"]))
             m["free_dofs"] = int(m["free_dofs"])
             m["omega_max"] = float(m["omega_max_rad_s"])
-        self.mesh_keys = [m["key"] for m in sorted(self.meshes, key=lambda m: (m["element"],
-                                                                                 m["free_dofs"]))]
+        self.mesh_keys = [
+            m["key"] for m in sorted(self.meshes, key=lambda m: (m["element"], m["free_dofs"]))
+        ]
         self.meta = {row["key"]: row["value"] for row in read(out / "statistics_meta.csv")}
         self.replicas = read(out / "replica_check.csv")
         self.scenes = [s for s in SCENE_TITLES if any(r["scene"] == s for r in self.rows)]
@@ -92,8 +103,16 @@ class Study:
 
     def select(self, scene, quantity, mesh=None):
         """Runs of a scene and quantity (on one mesh), by decreasing Δt."""
-        return sorted([r for r in self.rows if r["scene"] == scene and r["quantity"] == quantity
-                       and (mesh is None or r["mesh"] == mesh)], key=lambda r: -r["dt"])
+        return sorted(
+            [
+                r
+                for r in self.rows
+                if r["scene"] == scene
+                and r["quantity"] == quantity
+                and (mesh is None or r["mesh"] == mesh)
+            ],
+            key=lambda r: -r["dt"],
+        )
 
     def quantities(self, scene):
         return ENERGY_Q if scene == "energy" else FORCED_Q
@@ -105,10 +124,12 @@ class Study:
         """(relative error, its uncertainty) against the reference."""
         ref = self.reference(r["scene"], r["quantity"])
         scale = abs(ref["value"])
-        return (abs(r["value"] - ref["value"]) / scale,
-                2 * math.hypot(r["spread"], ref["spread"]) / scale)
+        return (
+            abs(r["value"] - ref["value"]) / scale,
+            2 * math.hypot(r["spread"], ref["spread"]) / scale,
+        )
 
-    def settled(self, scene, quantity, mesh):
+    def within_noise(self, scene, quantity, mesh):
         """The run from which every smaller Δt on the mesh agrees with its smallest-Δt run."""
         runs = self.select(scene, quantity, mesh)
         last = runs[-1]
@@ -167,6 +188,7 @@ def with_spread(quantity, r):
 # ----------------------------------------------------------------------------------------------
 # Plots
 
+
 def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title, dpi=100):
     """Error against wall time, one panel per (scene, quantity)."""
     n = len(scenes_of_panels)
@@ -183,44 +205,89 @@ def work_precision(study, out, scenes_of_panels, quantity_of_panels, name, title
         for element in ("argyris", "fvs"):
             meshes = [m for m in study.mesh_keys if m[0] == element]
             for k, mesh in enumerate(meshes):
-                runs = [r for r in study.select(scene, quantity, mesh)
-                        if r is not study.reference(scene, quantity)]
+                runs = [
+                    r
+                    for r in study.select(scene, quantity, mesh)
+                    if r is not study.reference(scene, quantity)
+                ]
                 if not runs:
                     continue
                 err = [study.error(r) for r in runs]
-                data += [[scene, quantity, *mesh, r["dt"], r["wall_s"], e, u]
-                         for r, (e, u) in zip(runs, err)]
+                data += [
+                    [scene, quantity, *mesh, r["dt"], r["wall_s"], e, u]
+                    for r, (e, u) in zip(runs, err)
+                ]
                 y = [max(e, floor) for e, _ in err]
                 lo = [yy - max(e - u, floor) for yy, (e, u) in zip(y, err)]
                 hi = [u for _, u in err]
-                ax.errorbar([r["wall_s"] for r in runs], y, yerr=[lo, hi], color=COLORS[element],
-                            marker=MARKERS[k % len(MARKERS)], ms=4, lw=0.9, elinewidth=0.6,
-                            capsize=1.5, alpha=0.85, label=mesh_name(mesh))
+                ax.errorbar(
+                    [r["wall_s"] for r in runs],
+                    y,
+                    yerr=[lo, hi],
+                    color=COLORS[element],
+                    marker=MARKERS[k % len(MARKERS)],
+                    ms=4,
+                    lw=0.9,
+                    elinewidth=0.6,
+                    capsize=1.5,
+                    alpha=0.85,
+                    label=mesh_name(mesh),
+                )
                 first, last = runs[0], runs[-1]
                 for r, yy in ((first, y[0]), (last, y[-1])):
-                    ax.annotate(f"{r['dt']:g}", (r["wall_s"], yy), fontsize=5.5,
-                                color=COLORS[element], xytext=(2, 2), textcoords="offset points")
+                    ax.annotate(
+                        f"{r['dt']:g}",
+                        (r["wall_s"], yy),
+                        fontsize=5.5,
+                        color=COLORS[element],
+                        xytext=(2, 2),
+                        textcoords="offset points",
+                    )
         for tol in TOLERANCES:
             ax.axhline(tol, color="k", lw=0.7, ls=":")
-            ax.annotate(f"{tol:.0%}", (1, tol), xycoords=("axes fraction", "data"), fontsize=7,
-                        xytext=(-18, 2), textcoords="offset points")
+            ax.annotate(
+                f"{tol:.0%}",
+                (1, tol),
+                xycoords=("axes fraction", "data"),
+                fontsize=7,
+                xytext=(-18, 2),
+                textcoords="offset points",
+            )
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_ylim(bottom=floor)
         ax.set_xlabel("wall time of one run (s)")
         ax.set_ylabel("relative error vs best-resolved run")
-        ax.set_title(f"{QUANTITIES[quantity][0]} — {SCENE_TITLES[scene]}\nreference "
-                     f"{mesh_name(ref['mesh'])}, Δt = {ref['dt']:g} s: "
-                     f"{with_spread(quantity, ref)}{unit(quantity)}", fontsize=8)
+        ax.set_title(
+            f"{QUANTITIES[quantity][0]} — {SCENE_TITLES[scene]}\nreference "
+            f"{mesh_name(ref['mesh'])}, Δt = {ref['dt']:g} s: "
+            f"{with_spread(quantity, ref)}{unit(quantity)}",
+            fontsize=8,
+        )
         ax.grid(True, which="major", alpha=0.3)
         ax.legend(fontsize=6, ncol=2, loc="lower left")
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
-    fig.suptitle(title + " (bars: 2σ of the difference; labels: Δt of the first and last run "
-                 "of each mesh)", fontsize=9)
+    fig.suptitle(
+        title + " (bars: 2σ of the difference; labels: Δt of the first and last run of each mesh)",
+        fontsize=9,
+    )
     save(fig, out / name, dpi=dpi)
-    pages.figure_data(out / name, ["scene", "quantity", "element", "nx", "ny", "dt", "wall_s",
-                                   "relative_error", "uncertainty_2sigma"], data)
+    pages.figure_data(
+        out / name,
+        [
+            "scene",
+            "quantity",
+            "element",
+            "nx",
+            "ny",
+            "dt",
+            "wall_s",
+            "relative_error",
+            "uncertainty_2sigma",
+        ],
+        data,
+    )
 
 
 def against_omega_dt(study, out, grid, name):
@@ -236,29 +303,50 @@ def against_omega_dt(study, out, grid, name):
                 meshes = [m for m in study.mesh_keys if m[0] == element]
                 for k, mesh in enumerate(meshes):
                     runs = study.select(scene, quantity, mesh)
-                    data += [[scene, quantity, *mesh, r["dt"], r["omega_max_dt"], r["value"],
-                              r["spread"]] for r in runs]
-                    ax.errorbar([r["omega_max_dt"] for r in runs],
-                                [shown(quantity, r["value"]) for r in runs],
-                                yerr=[2 * shown(quantity, r["spread"]) for r in runs],
-                                color=COLORS[element], marker=MARKERS[k % len(MARKERS)], ms=3,
-                                lw=0.8, elinewidth=0.6, capsize=1.5, alpha=0.85,
-                                label=mesh_name(mesh))
+                    data += [
+                        [
+                            scene,
+                            quantity,
+                            *mesh,
+                            r["dt"],
+                            r["omega_max_dt"],
+                            r["value"],
+                            r["spread"],
+                        ]
+                        for r in runs
+                    ]
+                    ax.errorbar(
+                        [r["omega_max_dt"] for r in runs],
+                        [shown(quantity, r["value"]) for r in runs],
+                        yerr=[2 * shown(quantity, r["spread"]) for r in runs],
+                        color=COLORS[element],
+                        marker=MARKERS[k % len(MARKERS)],
+                        ms=3,
+                        lw=0.8,
+                        elinewidth=0.6,
+                        capsize=1.5,
+                        alpha=0.85,
+                        label=mesh_name(mesh),
+                    )
             ax.axvline(1.0, color="k", lw=0.7, ls=":")
             ax.set_xscale("log")
             ax.invert_xaxis()
             ax.grid(True, alpha=0.3)
             if i == 0 or nrows == 1:
-                ax.set_title(SCENE_TITLES[scene] if nrows > 1 else QUANTITIES[quantity][0],
-                             fontsize=9)
+                ax.set_title(
+                    SCENE_TITLES[scene] if nrows > 1 else QUANTITIES[quantity][0], fontsize=9
+                )
             if j == 0 or nrows == 1:
                 ax.set_ylabel(QUANTITIES[quantity][0] + unit(quantity), fontsize=8)
             if i == nrows - 1:
                 ax.set_xlabel("ω_max·Δt (resolved right of the dotted line)", fontsize=8)
     axes[0][0].legend(fontsize=6, ncol=2)
     save(fig, out / name, dpi=90)
-    pages.figure_data(out / name, ["scene", "quantity", "element", "nx", "ny", "dt",
-                                   "omega_max_dt", "value", "spread"], data)
+    pages.figure_data(
+        out / name,
+        ["scene", "quantity", "element", "nx", "ny", "dt", "omega_max_dt", "value", "spread"],
+        data,
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -296,7 +384,7 @@ def settling_points(study, scenes, quantities):
         for q in quantities:
             for mesh in study.mesh_keys:
                 tried += 1
-                r = study.settled(scene, q, mesh)
+                r = study.within_noise(scene, q, mesh)
                 if r is not None:
                     found.append((omega[mesh], r))
     return found, tried
@@ -319,18 +407,24 @@ def cheapest_table(study):
             for tol in TOLERANCES:
                 r = study.cheapest(scene, q, tol)
                 if r is None:
-                    closest = min((x for x in study.select(scene, q) if x is not ref),
-                                  key=lambda x: sum(study.error(x)))
+                    closest = min(
+                        (x for x in study.select(scene, q) if x is not ref),
+                        key=lambda x: sum(study.error(x)),
+                    )
                     e, u = study.error(closest)
                     why = f"; 2σ of two runs' difference {floor:.1%}" if floor > tol else ""
-                    cells.append(f"not reached at any tested cost (closest: "
-                                 f"{mesh_name(closest['mesh'])}, Δt = {closest['dt']:g} s, "
-                                 f"{e:.1%} ± {u:.1%}{why})")
+                    cells.append(
+                        f"not reached at any tested cost (closest: "
+                        f"{mesh_name(closest['mesh'])}, Δt = {closest['dt']:g} s, "
+                        f"{e:.1%} ± {u:.1%}{why})"
+                    )
                 else:
                     e, u = study.error(r)
-                    cells.append(f"{mesh_name(r['mesh'])}, Δt = {r['dt']:g} s (ω_max·Δt = "
-                                 f"{r['omega_max_dt']:.3g}): **{r['wall_s']:.3g} s**; error "
-                                 f"{e:.2%} ± {u:.2%}")
+                    cells.append(
+                        f"{mesh_name(r['mesh'])}, Δt = {r['dt']:g} s (ω_max·Δt = "
+                        f"{r['omega_max_dt']:.3g}): **{r['wall_s']:.3g} s**; error "
+                        f"{e:.2%} ± {u:.2%}"
+                    )
             lines.append(f"| {scene} | {md_name(q)} | {cells[0]} | {cells[1]} |")
     return lines
 
@@ -339,9 +433,12 @@ def paper_table(study):
     """The paper's 140-element meshes at its Δt against the best-resolved run."""
     paper = [PAPER_MESH, ("fvs", 14, 10)]
     head = [(m, dt) for m in paper for dt in (1e-3, 1e-4) if m in study.mesh_keys]
-    lines = ["| scene | quantity | " + " | ".join(f"{mesh_name(m)}, Δt = {dt:g} s"
-                                                 for m, dt in head) + " |",
-             "|---|---|" + "---|" * len(head)]
+    lines = [
+        "| scene | quantity | "
+        + " | ".join(f"{mesh_name(m)}, Δt = {dt:g} s" for m, dt in head)
+        + " |",
+        "|---|---|" + "---|" * len(head),
+    ]
     for scene in study.scenes:
         for q in study.quantities(scene):
             if q == "peak_corner_m":
@@ -362,40 +459,51 @@ def settled_quantities(scene):
 def settling_table(study):
     """Per scene and quantity: on how many meshes it settles in Δt, at which ω_max·Δt, and the
     exponent of Δt_settle ∝ ω_max^p."""
-    lines = ["| scene | quantity | settled on | ω_max·Δt at settling: min / median / max | p |",
-             "|---|---|---|---|---|"]
+    lines = [
+        "| scene | quantity | within its noise on | ω_max·Δt from which: min / median / max | p |",
+        "|---|---|---|---|---|",
+    ]
     for scene in study.scenes:
         for q in settled_quantities(scene):
             found, tried = settling_points(study, [scene], [q])
             wdt = [r["omega_max_dt"] for _, r in found]
             p = fit_slope([(wm, r["dt"]) for wm, r in found]) if len(found) >= 3 else None
-            span = (f"{min(wdt):.2g} / {median(wdt):.2g} / {max(wdt):.3g}" if wdt else "–")
-            lines.append(f"| {scene} | {md_name(q)} | {len(found)} of {tried} meshes | {span} | "
-                         f"{'–' if p is None else f'{p:.2f}'} |")
+            span = f"{min(wdt):.2g} / {median(wdt):.2g} / {max(wdt):.3g}" if wdt else "–"
+            lines.append(
+                f"| {scene} | {md_name(q)} | {len(found)} of {tried} meshes | {span} | "
+                f"{'–' if p is None else f'{p:.2f}'} |"
+            )
     return lines
 
 
 def settling_by_mesh_table(study):
     """ω_max·Δt from which each quantity has settled, mesh by mesh."""
-    lines = ["| scene | quantity | " + " | ".join(mesh_name(m) for m in study.mesh_keys) + " |",
-             "|---|---|" + "---|" * len(study.mesh_keys)]
+    lines = [
+        "| scene | quantity | " + " | ".join(mesh_name(m) for m in study.mesh_keys) + " |",
+        "|---|---|" + "---|" * len(study.mesh_keys),
+    ]
     for scene in study.scenes:
         for q in settled_quantities(scene):
             cells = []
             for mesh in study.mesh_keys:
                 runs_m = study.select(scene, q, mesh)
-                st = study.settled(scene, q, mesh)
-                cells.append(("no" if st is None else f"{st['omega_max_dt']:.3g}")
-                             + f" [{runs_m[-1]['omega_max_dt']:.2g}]")
+                st = study.within_noise(scene, q, mesh)
+                cells.append(
+                    ("no" if st is None else f"{st['omega_max_dt']:.3g}")
+                    + f" [{runs_m[-1]['omega_max_dt']:.2g}]"
+                )
             lines.append(f"| {scene} | {md_name(q)} | " + " | ".join(cells) + " |")
     return lines
 
 
 def mesh_table(study):
     """Each mesh at its smallest Δt, and whether it agrees with the next coarser one."""
-    lines = ["| scene | quantity | " + " | ".join(mesh_name(m) for m in study.mesh_keys)
-             + " | finest FVS vs finest Argyris |",
-             "|---|---|" + "---|" * (len(study.mesh_keys) + 1)]
+    lines = [
+        "| scene | quantity | "
+        + " | ".join(mesh_name(m) for m in study.mesh_keys)
+        + " | finest FVS vs finest Argyris |",
+        "|---|---|" + "---|" * (len(study.mesh_keys) + 1),
+    ]
     for scene in study.scenes:
         for q in study.quantities(scene):
             if q == "peak_corner_m":
@@ -409,8 +517,9 @@ def mesh_table(study):
                 previous[mesh[0]] = r
                 cells.append(with_spread(q, r) + mark)
             both = "agree" if agree(previous["argyris"], previous["fvs"]) else "differ"
-            lines.append(f"| {scene} | {md_name(q)}{unit(q)} | " + " | ".join(cells)
-                         + f" | {both} |")
+            lines.append(
+                f"| {scene} | {md_name(q)}{unit(q)} | " + " | ".join(cells) + f" | {both} |"
+            )
     return lines
 
 
@@ -421,27 +530,32 @@ def reference_table(study):
         for q in study.quantities(scene):
             ref = study.reference(scene, q)
             rel = ref["spread"] / abs(ref["value"])
-            lines.append(f"| {scene} | {md_name(q)}{unit(q)} | {with_spread(q, ref)} | "
-                         f"{rel:.2%} |")
+            lines.append(f"| {scene} | {md_name(q)}{unit(q)} | {with_spread(q, ref)} | {rel:.2%} |")
     return lines
 
 
 def meshes_table(study):
     """The meshes, their first and highest frequencies and the Δt range run on each."""
-    lines = ["| mesh | free dofs | f₁ (Hz) | ω_max (rad/s) | Δt run (s) | ω_max·Δt at the "
-             "smallest Δt |", "|---|---|---|---|---|---|"]
+    lines = [
+        "| mesh | free dofs | f₁ (Hz) | ω_max (rad/s) | Δt run (s) | ω_max·Δt at the smallest Δt |",
+        "|---|---|---|---|---|---|",
+    ]
     for m in sorted(study.meshes, key=lambda m: (m["element"], m["free_dofs"])):
         dts = sorted({r["dt"] for r in study.rows if r["mesh"] == m["key"]}, reverse=True)
-        lines.append(f"| {mesh_name(m['key'])} | {m['free_dofs']} | "
-                     f"{float(m['omega1_rad_s']) / (2 * math.pi):.3f} | {m['omega_max']:.3g} | "
-                     f"{dts[0]:g} … {dts[-1]:g} | {m['omega_max'] * dts[-1]:.2f} |")
+        lines.append(
+            f"| {mesh_name(m['key'])} | {m['free_dofs']} | "
+            f"{float(m['omega1_rad_s']) / (2 * math.pi):.3f} | {m['omega_max']:.3g} | "
+            f"{dts[0]:g} … {dts[-1]:g} | {m['omega_max'] * dts[-1]:.2f} |"
+        )
     return lines
 
 
 def replica_table(study):
     """The window estimate of the spread against perturbed replicas, per setting."""
-    lines = ["| scene | mesh | Δt | " + " | ".join(md_name(q) for q in SETTLING_Q) + " |",
-             "|---|---|---|" + "---|" * len(SETTLING_Q)]
+    lines = [
+        "| scene | mesh | Δt | " + " | ".join(md_name(q) for q in SETTLING_Q) + " |",
+        "|---|---|---|" + "---|" * len(SETTLING_Q),
+    ]
 
     def setting(r):
         return (r["scene"], (r["element"], int(r["nx"]), int(r["ny"])), float(r["dt"]))
@@ -457,8 +571,7 @@ def replica_table(study):
             win, rep = float(r["window_spread"]), float(r["replica_std"])
             ratio = f"{rep / win:.2f}" if win > 0 else "–"
             cells.append(f"{number(shown(q, win), 2)} / {number(shown(q, rep), 2)} ({ratio})")
-        lines.append(f"| {key[0]} | {mesh_name(key[1])} | {key[2]:g} | " + " | ".join(cells)
-                     + " |")
+        lines.append(f"| {key[0]} | {mesh_name(key[1])} | {key[2]:g} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -476,13 +589,49 @@ def tables(study):
     }
 
 
+def write_evidence(study, out):
+    """The rule's verdicts (statistics_verdicts.csv, statistics_ladders.csv) and where every scene,
+    quantity and mesh stays within its noise (statistics_within_noise.csv: the Δt, empty where
+    even the two smallest disagree, and ω_max·Δt there)."""
+    runs = {}
+    for r in study.rows:
+        runs.setdefault((r["scene"], "", r["quantity"]), []).append(
+            evidence.Run(r["element"], r["nx"], r["ny"], r["dt"], r["value"], r["spread"])
+        )
+    evidence.write(
+        out / "statistics_verdicts.csv", {key: evidence.judge(r) for key, r in runs.items()}
+    )
+    evidence.write_ladders(out / "statistics_ladders.csv", runs)
+    with open(out / "statistics_within_noise.csv", "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(["scene", "quantity", "mesh", "within_noise_dt", "omega_max_dt"])
+        for scene in study.scenes:
+            for q in study.quantities(scene):
+                for mesh in study.mesh_keys:
+                    if not study.select(scene, q, mesh):
+                        continue
+                    r = study.within_noise(scene, q, mesh)
+                    name = f"{mesh[0]}:{mesh[1]}x{mesh[2]}"
+                    writer.writerow(
+                        [
+                            scene,
+                            q,
+                            name,
+                            f"{r['dt']:g}" if r else "",
+                            f"{r['omega_max_dt']:.6g}" if r else "",
+                        ]
+                    )
+
+
 def main():
-    """Plots (with their data) and the tables of DIR/statistics.md; `--tables-only` writes the
-    tables alone (the check that the committed tables follow from the committed CSVs)."""
+    """Plots (with their data), the rule's verdicts and the tables of DIR/statistics.md;
+    `--tables-only` writes the tables and verdicts alone (the check that the committed ones follow
+    from the committed CSVs)."""
     out = Path(sys.argv[1])
     study = Study(out)
     if "--tables-only" not in sys.argv[2:]:
         plots(study, out)
+    write_evidence(study, out)
     pages.fill(out / "statistics.md", tables(study), MODULE)
 
 
@@ -490,16 +639,33 @@ def plots(study, out):
     forced = [s for s in FORCED if s in study.scenes]
     for q in SETTLING_Q:
         if forced:
-            work_precision(study, out, forced, [q] * len(forced), f"statistics_wp_{q}.png",
-                           f"Work-precision: {md_name(q)}")
+            work_precision(
+                study,
+                out,
+                forced,
+                [q] * len(forced),
+                f"statistics_wp_{q}.png",
+                f"Work-precision: {md_name(q)}",
+            )
     if "energy" in study.scenes:
-        work_precision(study, out, ["energy"] * len(ENERGY_Q), ENERGY_Q, "statistics_wp_energy.png",
-                       "Work-precision of the energy scene")
-        against_omega_dt(study, out, [[("energy", q) for q in ENERGY_Q]],
-                         "statistics_settling_energy.png")
+        work_precision(
+            study,
+            out,
+            ["energy"] * len(ENERGY_Q),
+            ENERGY_Q,
+            "statistics_wp_energy.png",
+            "Work-precision of the energy scene",
+        )
+        against_omega_dt(
+            study, out, [[("energy", q) for q in ENERGY_Q]], "statistics_settling_energy.png"
+        )
     if forced:
-        against_omega_dt(study, out, [[(s, q) for s in forced] for q in SETTLING_Q],
-                         "statistics_settling_forced.png")
+        against_omega_dt(
+            study,
+            out,
+            [[(s, q) for s in forced] for q in SETTLING_Q],
+            "statistics_settling_forced.png",
+        )
 
 
 if __name__ == "__main__":

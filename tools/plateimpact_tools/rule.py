@@ -41,6 +41,7 @@ order is observed; then B = F·(|d₂| + 2σ_d₂)/(r^P_MIN − 1) + 2σ_c, whic
 
 import dataclasses
 import math
+from collections.abc import Sequence
 
 # Confidence factor on a spread (2σ: about 95 % if Gaussian).
 SIGMAS = 2.0
@@ -67,20 +68,21 @@ class Judgement:
     """What the rule says of the last three settings: `accepted`, the error bound `bound` of
     v_c (absolute, same unit), the observed order (None when the last change is within its
     noise or the changes alternate), and `why` (a short reason when rejected)."""
+
     accepted: bool
     bound: float
     order: float | None
     why: str = ""
 
 
-def observed_order(d1, d2, r1, r2):
+def observed_order(d1: float, d2: float, r1: float, r2: float) -> float:
     """The order p with d₁/d₂ = r₂^p·(r₁^p − 1)/(r₂^p − 1): the two changes of a value
     v = v∞ + C·h^p over three settings whose step h shrinks by r₁ then r₂ (r₁ = r₂ = r gives
     p = log_r(d₁/d₂)). For same-signed changes with |d₂| < |d₁|; bisection on p ∈ (0, 30]."""
     target = abs(d1 / d2)
 
-    def ratio(p):
-        return r2 ** p * (r1 ** p - 1) / (r2 ** p - 1)
+    def ratio(p: float) -> float:
+        return r2**p * (r1**p - 1) / (r2**p - 1)
 
     lo, hi = 1e-9, 30.0
     if ratio(hi) < target:
@@ -94,7 +96,14 @@ def observed_order(d1, d2, r1, r2):
     return 0.5 * (lo + hi)
 
 
-def judge(values, spreads, ratios, tolerance, extrapolate=True, taken=0.0):
+def judge(
+    values: Sequence[float],
+    spreads: Sequence[float],
+    ratios: tuple[float, float],
+    tolerance: float,
+    extrapolate: bool = True,
+    taken: float = 0.0,
+) -> Judgement:
     """The rule (module docs) on a ladder's last three settings: `values` v_a, v_b, v_c,
     `spreads` their 1σ, `ratios` (r₁, r₂) the refinement ratios a → b and b → c (2 for halving
     Δt; the ratio of the cell sizes for a mesh), `tolerance` relative; `extrapolate`: whether an
@@ -117,7 +126,7 @@ def judge(values, spreads, ratios, tolerance, extrapolate=True, taken=0.0):
         return Judgement(False, math.inf, None, "the changes do not shrink")
     order = None
     if not significant2:
-        bound = SAFETY * (abs(d2) + SIGMAS * s2) / (r2 ** P_MIN - 1) + noise
+        bound = SAFETY * (abs(d2) + SIGMAS * s2) / (r2**P_MIN - 1) + noise
     elif d1 * d2 < 0:  # an oscillation about the limit: it lies between v_b and v_c
         bound = SAFETY * abs(d2) + noise
     else:
@@ -132,6 +141,6 @@ def judge(values, spreads, ratios, tolerance, extrapolate=True, taken=0.0):
     return Judgement(True, bound, order)
 
 
-def pair_passes(va, sa, vb, sb, tolerance):
+def pair_passes(va: float, sa: float, vb: float, sb: float, tolerance: float) -> bool:
     """One pair of successive settings agrees: |v_a − v_b| + 2σ_ab ≤ tol·|v_b|."""
     return abs(va - vb) + SIGMAS * math.hypot(sa, sb) <= tolerance * abs(vb)

@@ -1,7 +1,7 @@
 //! The exported C functions, called as a host would call them: null pointers and garbage, then
 //! random call sequences of both FMI versions: good and bad values, calls in every state, FMU
-//! states saved, serialized, corrupted and restored. The host and its oracles are the library's
-//! `fmi::host_check` (shared with the fuzz targets in `fuzz/`), after every call:
+//! states saved, serialized, corrupted and restored. The host and its oracles are this crate's
+//! (shared with the fuzz targets in `fuzz/`), after every call:
 //! * no crash and no hang (small meshes, at most a few hundred internal steps per call);
 //! * every FMU state taken can be set again, and setting it changes nothing observable;
 //! * after OK, every output readable is finite, the free corners (obstacle-constrained
@@ -11,16 +11,16 @@
 //!   version's failed state as its rules say (FMI 2.0: a failed fmi2DoStep; FMI 3.0: every
 //!   fmi3Error ends in Terminated, with every value as before but for a failed step).
 //!
-//! `PROPTEST_CASES=1000 cargo test --release --test fmi_c_api` runs a longer search.
+//! `PROPTEST_CASES=1000 cargo test --release -p plate_impact_host_check` runs a longer search.
 
 use plate_impact::fmi::fmi2::exports::*;
-use plate_impact::fmi::host_check::fmi2::{instantiate, Fmi2Host};
-use plate_impact::fmi::host_check::fmi3::Fmi3Host;
-use plate_impact::fmi::host_check::{
+use plate_impact::fmi::variables::{vr, Description, Kind, FMI2, FMI3};
+use plate_impact_host_check::fmi2::{instantiate, Fmi2Host};
+use plate_impact_host_check::fmi3::Fmi3Host;
+use plate_impact_host_check::{
     check_call, check_sequence, value_references, Host, Op, INTEGERS, REALS, SIZES, SLOTS, STEPS,
     TEXTS, TIMES,
 };
-use plate_impact::fmi::variables::{vr, Description, Kind, FMI2, FMI3};
 use proptest::prelude::*;
 
 const OK: fmi2Status = 0;

@@ -1,9 +1,9 @@
 //! A hostile host and its oracles, shared by the random call-sequence test
 //! (`tests/fmi_c_api.rs`, proptest) and the coverage-guided fuzz targets (`fuzz/`, libFuzzer):
 //! both drive the exported C functions of one FMI version through [`Host`] and judge every call
-//! with [`check_call`]. Compiled only with the `host-check` feature (the test suite turns it on
-//! through a dev-dependency of the crate on itself; the fuzz crate turns it on in its own
-//! Cargo.toml), so the FMU binary carries none of it.
+//! with [`check_call`]. A crate of its own that depends on the library, so that the library is
+//! built one way for every test, example and the packager, and the FMU binary carries none of
+//! it.
 //!
 //! The oracles, after every call:
 //! * no crash and no hang (the caller's business: small meshes, bounded steps, a time limit);
@@ -19,11 +19,14 @@
 //!   with every value as before, but for a failed fmi3DoStep);
 //! * a call answered Discard changed nothing.
 
+// The host calls the exported C functions through raw pointers, as a C host would.
+#![allow(unsafe_code)]
+
 pub mod fmi2;
 pub mod fmi3;
 
-use crate::fmi::serialized;
-use crate::fmi::variables::{Description, Kind};
+use plate_impact::fmi::serialized;
+use plate_impact::fmi::variables::{Description, Kind};
 use std::ffi::c_void;
 
 /// The status codes, the same numbers in FMI 2.0 and FMI 3.0.

@@ -1,8 +1,8 @@
 //! The FMI 2.0 host: one instance and its FMU-state slots, through the exported fmi2 functions.
 
-use super::{text_hash, Host, Observation, Op, StateCalls, ERROR, OK, SLOTS};
-use crate::fmi::fmi2::exports::*;
-use crate::fmi::variables::{vr, Description, Kind, FMI2};
+use crate::{text_hash, Host, Observation, Op, StateCalls, ERROR, OK, SLOTS};
+use plate_impact::fmi::fmi2::exports::*;
+use plate_impact::fmi::variables::{vr, Description, Kind, FMI2};
 use std::ffi::{c_char, CString};
 
 /// One FMI 2.0 instance and the FMU states the host keeps for it.

@@ -8,10 +8,10 @@
 //! (outputs and calculated parameters from Step Mode on; the displacement field only when its
 //! structural sizes match the mesh).
 
-use super::{text_hash, Host, Observation, Op, StateCalls, ERROR, NOT_READ, OK, SLOTS};
-use crate::fmi::fmi3::exports::*;
-use crate::fmi::serialized;
-use crate::fmi::variables::{vr, Causality, Description, Kind, FMI3};
+use crate::{text_hash, Host, Observation, Op, StateCalls, ERROR, NOT_READ, OK, SLOTS};
+use plate_impact::fmi::fmi3::exports::*;
+use plate_impact::fmi::serialized;
+use plate_impact::fmi::variables::{vr, Causality, Description, Kind, FMI3};
 use std::ffi::{c_char, CString};
 
 /// One FMI 3.0 instance, the FMU states the host keeps for it, and what the host tracks.
