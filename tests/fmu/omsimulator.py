@@ -22,9 +22,13 @@ import fmpy
 import numpy as np
 import pytest
 
-OMS_NAMESPACE = 'xmlns:oms="https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"'
-SSD_NAMESPACES = ('xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" '
-                  'xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" ' + OMS_NAMESPACE)
+OMS_NAMESPACE = (
+    'xmlns:oms="https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"'
+)
+SSD_NAMESPACES = (
+    'xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" '
+    'xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" ' + OMS_NAMESPACE
+)
 # OMSimulator names every recorded signal model.system.component.variable.
 MODEL, SYSTEM = "model", "root"
 
@@ -33,8 +37,10 @@ def binary():
     """The OMSimulator binary; skips the test when OMSIMULATOR names none."""
     path = os.environ.get("OMSIMULATOR")
     if not path:
-        pytest.skip("OMSIMULATOR does not name an OMSimulator binary (built by hand from the "
-                    "OpenModelica/OMSimulator source as docs/fmu.md describes; no registry ships it)")
+        pytest.skip(
+            "OMSIMULATOR does not name an OMSimulator binary (built by hand from the "
+            "OpenModelica/OMSimulator source as docs/fmu.md describes; no registry ships it)"
+        )
     if not pathlib.Path(path).is_file():
         pytest.fail(f"OMSIMULATOR={path} is not a file")
     return path
@@ -53,21 +59,36 @@ def ssd(components, connections, stop, step, recorded=None):
     elements = []
     for name, fmu, ssv in components:
         # The connectors a connection uses (OMSimulator connects declared connectors only).
-        used = ([(x, "output") for a, x, _, _ in connections if a == name]
-                + [(y, "input") for _, _, b, y in connections if b == name])
-        connectors = ("" if not used else "\n        <ssd:Connectors>" + "".join(
-            f'\n          <ssd:Connector name="{c}" kind="{kind}"><ssc:Real/></ssd:Connector>'
-            for c, kind in used) + "\n        </ssd:Connectors>")
-        binding = ("" if ssv is None else
-                   f'\n        <ssd:ParameterBindings>\n          <ssd:ParameterBinding '
-                   f'source="resources/{ssv}"/>\n        </ssd:ParameterBindings>')
+        used = [(x, "output") for a, x, _, _ in connections if a == name] + [
+            (y, "input") for _, _, b, y in connections if b == name
+        ]
+        connectors = (
+            ""
+            if not used
+            else "\n        <ssd:Connectors>"
+            + "".join(
+                f'\n          <ssd:Connector name="{c}" kind="{kind}"><ssc:Real/></ssd:Connector>'
+                for c, kind in used
+            )
+            + "\n        </ssd:Connectors>"
+        )
+        binding = (
+            ""
+            if ssv is None
+            else f"\n        <ssd:ParameterBindings>\n          <ssd:ParameterBinding "
+            f'source="resources/{ssv}"/>\n        </ssd:ParameterBindings>'
+        )
         closing = "\n      " if used or ssv is not None else ""
-        elements.append(f'      <ssd:Component name={quoteattr(name)} '
-                        f'type="application/x-fmu-sharedlibrary" source="resources/{fmu}">'
-                        f'{connectors}{binding}{closing}</ssd:Component>')
+        elements.append(
+            f"      <ssd:Component name={quoteattr(name)} "
+            f'type="application/x-fmu-sharedlibrary" source="resources/{fmu}">'
+            f"{connectors}{binding}{closing}</ssd:Component>"
+        )
     links = "".join(
         f'\n      <ssd:Connection startElement="{a}" startConnector="{x}" endElement="{b}" '
-        f'endConnector="{y}"/>' for a, x, b, y in connections)
+        f'endConnector="{y}"/>'
+        for a, x, b, y in connections
+    )
     # SSP 1.0 wants at least one connection in a <ssd:Connections>.
     links = f"\n    <ssd:Connections>{links}\n    </ssd:Connections>" if connections else ""
     filter_attribute = "" if recorded is None else ' signalFilter="resources/signalFilter.xml"'
@@ -103,10 +124,13 @@ def ssd(components, connections, stop, step, recorded=None):
 def signal_filter(recorded):
     """resources/signalFilter.xml: OMSimulator records only these (component, variable) pairs (it
     escapes the names itself before it matches them as patterns)."""
-    lines = "".join(f'\n  <oms:Variable name="{signal(c, v)}" type="Real" kind="output"/>'
-                    for c, v in recorded)
-    return (f'<?xml version="1.0" encoding="UTF-8"?>\n<oms:SignalFilter version="1.0" '
-            f'{OMS_NAMESPACE}>{lines}\n</oms:SignalFilter>\n')
+    lines = "".join(
+        f'\n  <oms:Variable name="{signal(c, v)}" type="Real" kind="output"/>' for c, v in recorded
+    )
+    return (
+        f'<?xml version="1.0" encoding="UTF-8"?>\n<oms:SignalFilter version="1.0" '
+        f"{OMS_NAMESPACE}>{lines}\n</oms:SignalFilter>\n"
+    )
 
 
 def write_ssp(path, description, resources):
@@ -128,8 +152,16 @@ def run(model, workdir, stop, step):
     unless given; an SSP's step is its master's), without event rows: (the result as
     {signal: array}, the log). Fails on a non-zero exit or an error in the log."""
     result = pathlib.Path(workdir) / "result.csv"
-    command = [binary(), str(model), f"--resultFile={result}", "--emitEvents=false",
-               f"--tempDir={workdir}", "--mode=cs", f"--stopTime={stop!r}", f"--stepSize={step!r}"]
+    command = [
+        binary(),
+        str(model),
+        f"--resultFile={result}",
+        "--emitEvents=false",
+        f"--tempDir={workdir}",
+        "--mode=cs",
+        f"--stopTime={stop!r}",
+        f"--stepSize={step!r}",
+    ]
     done = subprocess.run(command, capture_output=True, text=True, timeout=600, cwd=workdir)
     log = done.stdout + done.stderr
     assert done.returncode == 0, f"OMSimulator exited with {done.returncode}:\n{log}"
@@ -155,9 +187,24 @@ def shaker_fmu(directory):
         pytest.skip("no C compiler (cc) to build the shaker FMU")
     source = pathlib.Path(__file__).parent / "shaker"
     library = pathlib.Path(directory) / "Shaker.so"
-    subprocess.run([compiler, "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-shared", "-fPIC",
-                    f"-I{pathlib.Path(fmpy.__file__).parent / 'c-code'}", str(source / "shaker.c"),
-                    "-o", str(library), "-lm"], check=True)
+    subprocess.run(
+        [
+            compiler,
+            "-std=c11",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-O2",
+            "-shared",
+            "-fPIC",
+            f"-I{pathlib.Path(fmpy.__file__).parent / 'c-code'}",
+            str(source / "shaker.c"),
+            "-o",
+            str(library),
+            "-lm",
+        ],
+        check=True,
+    )
     fmu = pathlib.Path(directory) / "Shaker.fmu"
     with zipfile.ZipFile(fmu, "w") as z:
         z.write(source / "modelDescription.xml", "modelDescription.xml")

@@ -17,10 +17,9 @@ schema without a target namespace (both schemas have none): libxml2 and the xmls
 refuse to load it. FMI-LS-REF had the same line and corrected it upstream to an `xs:include`, which
 merges a schema of the same (absent) namespace; the loader makes that one correction in memory."""
 
-import re
-
 import os
 import pathlib
+import re
 
 import fmpy
 import pytest
@@ -28,8 +27,10 @@ from lxml import etree
 
 FMPY = pathlib.Path(fmpy.__file__).parent
 FMI_STANDARD_URL = "https://raw.githubusercontent.com/modelica/fmi-standard/main/schema/"
-DRAFTS = {"manifest": "fmi3LayeredStandardReferenceManifest.xsd",
-          "experiments": "maHarmonizedSpecificationExperiments.xsd"}
+DRAFTS = {
+    "manifest": "fmi3LayeredStandardReferenceManifest.xsd",
+    "experiments": "maHarmonizedSpecificationExperiments.xsd",
+}
 SSP = {"ssv": "SystemStructureParameterValues.xsd", "ssd": "SystemStructureDescription.xsd"}
 
 
@@ -38,8 +39,9 @@ class _FmiStandard(etree.Resolver):
 
     def resolve(self, url, public_id, context):
         if url.startswith(FMI_STANDARD_URL):
-            return self.resolve_filename(str(FMPY / "schema" / "fmi3" / url.removeprefix(FMI_STANDARD_URL)),
-                                         context)
+            return self.resolve_filename(
+                str(FMPY / "schema" / "fmi3" / url.removeprefix(FMI_STANDARD_URL)), context
+            )
         return None
 
 
@@ -50,8 +52,10 @@ def schema_path(kind):
         return FMPY / "ssp" / "schema" / SSP[kind]
     directory = os.environ.get("PLATE_IMPACT_SCHEMAS")
     if not directory:
-        pytest.skip(f"PLATE_IMPACT_SCHEMAS does not name the directory of the draft schema "
-                    f"{DRAFTS[kind]} (no package registry ships it; docs/fmu.md says which commit)")
+        pytest.skip(
+            f"PLATE_IMPACT_SCHEMAS does not name the directory of the draft schema "
+            f"{DRAFTS[kind]} (no package registry ships it; docs/fmu.md says which commit)"
+        )
     path = pathlib.Path(directory) / DRAFTS[kind]
     if not path.is_file():
         pytest.fail(f"PLATE_IMPACT_SCHEMAS={directory} holds no {DRAFTS[kind]}")

@@ -51,14 +51,27 @@ from conftest import Plate, Plate3
 # (The FMI 3.0 field's structural sizes follow the mesh; FMI 2.0 has no such parameters.)
 # The probes sit on the plate off the clamp, so that they show what the plate's deflection depends
 # on.
-PROBES = {"probe1.x": 0.3, "probe1.y": 0.15, "probe2.x": 0.2, "probe2.y": 0.05,
-          "probe3.x": 0.35, "probe3.y": 0.1, "probe4.x": 0.4, "probe4.y": 0.2}
+PROBES = {
+    "probe1.x": 0.3,
+    "probe1.y": 0.15,
+    "probe2.x": 0.2,
+    "probe2.y": 0.05,
+    "probe3.x": 0.35,
+    "probe3.y": 0.1,
+    "probe4.x": 0.4,
+    "probe4.y": 0.2,
+}
 SMALL = {"mesh.nx": 4, "mesh.ny": 2, "mesh.vertex_rows": 3, "mesh.vertex_columns": 5} | PROBES
 PRELOAD, CONTACT = "initial.preload_pressure", "contact.active_nodes"
 # Every motion parameter away from its start, the base displaced.
-MOVING = {"base.displacement": 0.002, "base.amplitude": 0.001, "base.frequency": 35.0,
-          "solver.restitution": 0.5, "damping.stiffness_proportional": 5e-5,
-          "damping.modal_ratio": 0.01}
+MOVING = {
+    "base.displacement": 0.002,
+    "base.amplitude": 0.001,
+    "base.frequency": 35.0,
+    "solver.restitution": 0.5,
+    "damping.stiffness_proportional": 5e-5,
+    "damping.modal_ratio": 0.01,
+}
 POINTS = {
     "at rest": SMALL,
     # Preloaded onto an obstacle and held there by the load, so that the obstacle's level acts on
@@ -67,18 +80,33 @@ POINTS = {
     "pressed onto the lower obstacle": SMALL | MOVING | {PRELOAD: -1e5, "load.pressure": -1e5},
     # Pressed onto eight point stops along the free edge, of the lower obstacle and then of the
     # upper one, each carrying the plate, so that every stop's outputs show what they depend on.
-    "pressed onto lower stops": SMALL | MOVING | {
-        PRELOAD: -1e5, "load.pressure": -1e5,
+    "pressed onto lower stops": SMALL
+    | MOVING
+    | {
+        PRELOAD: -1e5,
+        "load.pressure": -1e5,
         "obstacle.lower_profile": "; ".join(
-            f"point(x = 0.4, y = {0.2 * k / 7}, offset = 0.005)" for k in range(8))},
-    "pressed onto upper stops": SMALL | MOVING | {
-        PRELOAD: 1e5, "load.pressure": 1e5,
+            f"point(x = 0.4, y = {0.2 * k / 7}, offset = 0.005)" for k in range(8)
+        ),
+    },
+    "pressed onto upper stops": SMALL
+    | MOVING
+    | {
+        PRELOAD: 1e5,
+        "load.pressure": 1e5,
         "obstacle.upper_profile": "; ".join(
-            f"point(x = 0.4, y = {0.2 * k / 7}, offset = -0.005)" for k in range(8))},
-    "damping ratio": SMALL | {"damping.ratio": 0.01, "damping.frequency_low": 50.0,
-                              "damping.frequency_high": 500.0},
-    "backend switch": {"mesh.nx": 29, "mesh.ny": 7, "mesh.vertex_rows": 8,
-                       "mesh.vertex_columns": 30} | PROBES,
+            f"point(x = 0.4, y = {0.2 * k / 7}, offset = -0.005)" for k in range(8)
+        ),
+    },
+    "damping ratio": SMALL
+    | {"damping.ratio": 0.01, "damping.frequency_low": 50.0, "damping.frequency_high": 500.0},
+    "backend switch": {
+        "mesh.nx": 29,
+        "mesh.ny": 7,
+        "mesh.vertex_rows": 8,
+        "mesh.vertex_columns": 30,
+    }
+    | PROBES,
 }
 # Another valid value of each String parameter, to perturb it by (a text has no small change).
 # Another valid value of each String parameter: the clamp on a second edge, profiles that tilt the
@@ -109,7 +137,9 @@ def perturbations(variable, value):
         return [[x] for x in steps if low <= x <= high]
     if kind == "String":
         if variable.name not in STRING_VALUES:
-            raise KeyError(f"{variable.name}: give STRING_VALUES another valid value to perturb it by")
+            raise KeyError(
+                f"{variable.name}: give STRING_VALUES another valid value to perturb it by"
+            )
         return [[STRING_VALUES[variable.name]]]
     raise TypeError(f"{variable.name}: no perturbation for variables of type {kind}; add one here")
 
@@ -165,15 +195,21 @@ class Instance:
 def knowns_at_initialization(md):
     """The knowns of Initialization Mode: inputs, variables with initial = exact (parameters and
     structural parameters) and the independent variable."""
-    return [v for v in md.modelVariables
-            if v.causality in ("input", "independent")
-            or (v.causality in ("parameter", "structuralParameter") and v.variability != "constant")]
+    return [
+        v
+        for v in md.modelVariables
+        if v.causality in ("input", "independent")
+        or (v.causality in ("parameter", "structuralParameter") and v.variability != "constant")
+    ]
 
 
 def knowns_between_steps(md):
     """What a host may set at a communication point: inputs and tunable parameters."""
-    return [v for v in md.modelVariables
-            if v.causality == "input" or (v.causality == "parameter" and v.variability == "tunable")]
+    return [
+        v
+        for v in md.modelVariables
+        if v.causality == "input" or (v.causality == "parameter" and v.variability == "tunable")
+    ]
 
 
 def changed(before, after):
@@ -199,8 +235,10 @@ def measure_initial_unknowns(version, unzipdir, md, point):
     """{unknown: set of known names} measured at `point` (a dict of start values)."""
     # Arrays last: a refused read ends an FMI 3.0 instance (Terminated), and only an array's read
     # may be refused when a perturbation is valid.
-    unknowns = sorted((u.variable.name for u in md.initialUnknowns),
-                      key=lambda name: bool(variable_shapes(md)[name]))
+    unknowns = sorted(
+        (u.variable.name for u in md.initialUnknowns),
+        key=lambda name: bool(variable_shapes(md)[name]),
+    )
     found = {u: set() for u in unknowns}
     reference = None
     for known in knowns_at_initialization(md):
@@ -243,6 +281,7 @@ def contact_edge(version, unzipdir, md, point, sign):
     a first vertex into contact (bisection to 1e-9 of it): there whatever moves the initial
     deflection, however little and either way, changes the contact set, which no small
     perturbation does elsewhere."""
+
     def touching(preload):
         instance = Instance(version, unzipdir, md)
         assert instance.enter_initialization(point | {PRELOAD: preload}), preload
@@ -263,7 +302,9 @@ def initialization_points(version, unzipdir, md):
     obstacle from a displaced base."""
     edges = {}
     for sign in (1, -1):
-        short, past = contact_edge(version, unzipdir, md, SMALL | {"base.displacement": 0.002}, sign)
+        short, past = contact_edge(
+            version, unzipdir, md, SMALL | {"base.displacement": 0.002}, sign
+        )
         edges |= {f"short of contact ({sign:+d})": short, f"just in contact ({sign:+d})": past}
     return POINTS | edges
 
@@ -284,8 +325,9 @@ def start_value(variable):
 def measure_outputs(version, unzipdir, md, point):
     """({output: set of known names} measured at a communication point of `point`, the knowns whose
     perturbation changed an output after the next step)."""
-    outputs = sorted((u.variable.name for u in md.outputs),
-                     key=lambda name: bool(variable_shapes(md)[name]))
+    outputs = sorted(
+        (u.variable.name for u in md.outputs), key=lambda name: bool(variable_shapes(md)[name])
+    )
     found = {o: set() for o in outputs}
     effective = set()
     for known in knowns_between_steps(md):
@@ -318,8 +360,10 @@ def measure_outputs(version, unzipdir, md, point):
 def declared(unknowns):
     """{unknown: set of known names} of a `<ModelStructure>` list as fmpy reads it (None where an
     unknown declares no `dependencies`)."""
-    return {u.variable.name: (None if u.dependencies is None
-                              else {d.name for d in u.dependencies}) for u in unknowns}
+    return {
+        u.variable.name: (None if u.dependencies is None else {d.name for d in u.dependencies})
+        for u in unknowns
+    }
 
 
 def union(measurements):
@@ -357,12 +401,19 @@ def test_outputs_depend_on_what_was_measured_between_steps(described):
 
 def test_initial_unknowns_depend_on_what_was_measured(described):
     version, unzipdir, md = described
-    measured = union(measure_initial_unknowns(version, unzipdir, md, point)
-                     for point in initialization_points(version, unzipdir, md).values())
+    measured = union(
+        measure_initial_unknowns(version, unzipdir, md, point)
+        for point in initialization_points(version, unzipdir, md).values()
+    )
     expected = declared(md.initialUnknowns)
-    wrong = {u: {"declared only": sorted(expected[u] - measured[u]),
-                 "measured only": sorted(measured[u] - expected[u])}
-             for u in expected if expected[u] != measured[u]}
+    wrong = {
+        u: {
+            "declared only": sorted(expected[u] - measured[u]),
+            "measured only": sorted(measured[u] - expected[u]),
+        }
+        for u in expected
+        if expected[u] != measured[u]
+    }
     assert not wrong, wrong
 
 
@@ -372,8 +423,10 @@ def main(fmu):
     version = int(md.fmiVersion[0])
     unzipdir = extract(fmu)
     outputs = union(measure_outputs(version, unzipdir, md, p)[0] for p in POINTS.values())
-    initial = union(measure_initial_unknowns(version, unzipdir, md, p)
-                    for p in initialization_points(version, unzipdir, md).values())
+    initial = union(
+        measure_initial_unknowns(version, unzipdir, md, p)
+        for p in initialization_points(version, unzipdir, md).values()
+    )
     position = {v.name: i + 1 for i, v in enumerate(md.modelVariables)}
     reference = {v.name: v.valueReference for v in md.modelVariables}
     key = position if version == 2 else reference

@@ -26,8 +26,10 @@ from test_reference import assert_matches
 PLATE = "PlateImpact"
 SCENE_NAMES = ["energy", "forced", "forced-30hz", "forced-35hz", "forced-35hz-damped"]
 # The coupled run: the example's plate damping, 0.3 s at 1 ms (about 30 impacts).
-COUPLED_PLATE = {"damping.mass_proportional": 2 * 0.01 * 2 * np.pi * 53.8,
-                 "damping.stiffness_proportional": 2 * 0.05 / (2 * np.pi * 335.0)}
+COUPLED_PLATE = {
+    "damping.mass_proportional": 2 * 0.01 * 2 * np.pi * 53.8,
+    "damping.stiffness_proportional": 2 * 0.05 / (2 * np.pi * 335.0),
+}
 COUPLED_STOP, COUPLED_STEP = 0.3, 1e-3
 LOOP_MESSAGE = "Alg. loop"
 
@@ -44,8 +46,11 @@ def fmu(request, fmu_path, fmu3_path):
 
 
 def scalar_outputs(fmu):
-    return [v.name for v in read_model_description(fmu).modelVariables
-            if v.causality == "output" and not v.dimensions]
+    return [
+        v.name
+        for v in read_model_description(fmu).modelVariables
+        if v.causality == "output" and not v.dimensions
+    ]
 
 
 def checked(description):
@@ -82,11 +87,23 @@ def test_the_fmi3_default_experiment_runs_through_an_ssp_recording_the_scalars(f
     outputs = scalar_outputs(fmu3_path)
     md = read_model_description(fmu3_path)
     stop, step = float(md.defaultExperiment.stopTime), float(md.defaultExperiment.stepSize)
-    description = checked(oms.ssd([(PLATE, "PlateImpact.fmu", None)], [], stop, step,
-                                  recorded=[(PLATE, n) for n in outputs]))
-    ssp = oms.write_ssp(tmp_path / "default.ssp", description, {
-        "PlateImpact.fmu": fmu3_path,
-        "signalFilter.xml": oms.signal_filter([(PLATE, n) for n in outputs]).encode()})
+    description = checked(
+        oms.ssd(
+            [(PLATE, "PlateImpact.fmu", None)],
+            [],
+            stop,
+            step,
+            recorded=[(PLATE, n) for n in outputs],
+        )
+    )
+    ssp = oms.write_ssp(
+        tmp_path / "default.ssp",
+        description,
+        {
+            "PlateImpact.fmu": fmu3_path,
+            "signalFilter.xml": oms.signal_filter([(PLATE, n) for n in outputs]).encode(),
+        },
+    )
     result, _ = oms.run(ssp, tmp_path, stop, step)
     assert len(result["time"]) == 1001 and result["time"][-1] == 1.0
     assert_printed_alike(result, PLATE, simulate_fmu(fmu3_path), outputs)
@@ -100,14 +117,27 @@ def test_each_shipped_parameter_set_runs_through_an_ssp(fmu, scene, tmp_path):
     start, stop, step = horizon(experiment)
     source = experiment.find("Parameters").get("source")
     outputs = scalar_outputs(fmu)
-    description = checked(oms.ssd([(PLATE, "PlateImpact.fmu", source)], [], stop, step,
-                                  recorded=[(PLATE, n) for n in outputs]))
+    description = checked(
+        oms.ssd(
+            [(PLATE, "PlateImpact.fmu", source)],
+            [],
+            stop,
+            step,
+            recorded=[(PLATE, n) for n in outputs],
+        )
+    )
     with zipfile.ZipFile(fmu) as z:
         ssv = z.read(f"{LS_REF}/{source}")
         reference_csv = z.read(f"{LS_REF}/{experiment.find('References').get('source')}")
-    ssp = oms.write_ssp(tmp_path / f"{scene}.ssp", description, {
-        "PlateImpact.fmu": fmu, source: ssv,
-        "signalFilter.xml": oms.signal_filter([(PLATE, n) for n in outputs]).encode()})
+    ssp = oms.write_ssp(
+        tmp_path / f"{scene}.ssp",
+        description,
+        {
+            "PlateImpact.fmu": fmu,
+            source: ssv,
+            "signalFilter.xml": oms.signal_filter([(PLATE, n) for n in outputs]).encode(),
+        },
+    )
     result, _ = oms.run(ssp, tmp_path, stop, step)
     reference = np.genfromtxt(io.BytesIO(reference_csv), delimiter=",", names=True, deletechars="")
     named = np.zeros(len(result["time"]), dtype=reference.dtype)
@@ -115,8 +145,14 @@ def test_each_shipped_parameter_set_runs_through_an_ssp(fmu, scene, tmp_path):
     for name in reference.dtype.names[1:]:
         named[name] = result[oms.signal(PLATE, name)]
     assert_matches(named, reference, scene)
-    expected = simulate_fmu(fmu, start_time=start, stop_time=stop, output_interval=step,
-                            start_values=parameter_set(fmu, source), output=outputs)
+    expected = simulate_fmu(
+        fmu,
+        start_time=start,
+        stop_time=stop,
+        output_interval=step,
+        start_values=parameter_set(fmu, source),
+        output=outputs,
+    )
     assert_printed_alike(result, PLATE, expected, outputs)
 
 
@@ -124,21 +160,39 @@ def coupled_ssp(plate_fmu, shaker, tmp_path, name):
     """The plate on the shaker: shaker.position drives base.displacement, base.mean_force pushes
     back on the shaker; the plate damped as in examples/shaker_coupling.py."""
     recorded = [(PLATE, n) for n in scalar_outputs(plate_fmu)] + [("shaker", "position")]
-    ssv = ('<?xml version="1.0" encoding="UTF-8"?>\n<ssv:ParameterSet '
-           'xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" '
-           'name="damping">\n  <ssv:Parameters>\n'
-           + "".join(f'    <ssv:Parameter name="{n}"><ssv:Real value="{v!r}"/></ssv:Parameter>\n'
-                     for n, v in COUPLED_PLATE.items())
-           + "  </ssv:Parameters>\n</ssv:ParameterSet>\n")
+    ssv = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n<ssv:ParameterSet '
+        'xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" '
+        'name="damping">\n  <ssv:Parameters>\n'
+        + "".join(
+            f'    <ssv:Parameter name="{n}"><ssv:Real value="{v!r}"/></ssv:Parameter>\n'
+            for n, v in COUPLED_PLATE.items()
+        )
+        + "  </ssv:Parameters>\n</ssv:ParameterSet>\n"
+    )
     assert errors("ssv", ssv.encode()) == []
-    description = checked(oms.ssd(
-        [(PLATE, "PlateImpact.fmu", "damping.ssv"), ("shaker", "Shaker.fmu", None)],
-        [("shaker", "position", PLATE, "base.displacement"),
-         (PLATE, "base.mean_force", "shaker", "force")],
-        COUPLED_STOP, COUPLED_STEP, recorded=recorded))
-    return oms.write_ssp(tmp_path / name, description, {
-        "PlateImpact.fmu": plate_fmu, "Shaker.fmu": shaker, "damping.ssv": ssv.encode(),
-        "signalFilter.xml": oms.signal_filter(recorded).encode()})
+    description = checked(
+        oms.ssd(
+            [(PLATE, "PlateImpact.fmu", "damping.ssv"), ("shaker", "Shaker.fmu", None)],
+            [
+                ("shaker", "position", PLATE, "base.displacement"),
+                (PLATE, "base.mean_force", "shaker", "force"),
+            ],
+            COUPLED_STOP,
+            COUPLED_STEP,
+            recorded=recorded,
+        )
+    )
+    return oms.write_ssp(
+        tmp_path / name,
+        description,
+        {
+            "PlateImpact.fmu": plate_fmu,
+            "Shaker.fmu": shaker,
+            "damping.ssv": ssv.encode(),
+            "signalFilter.xml": oms.signal_filter(recorded).encode(),
+        },
+    )
 
 
 def jacobi(plate_fmu, shaker_fmu, tmp_path):
@@ -148,8 +202,12 @@ def jacobi(plate_fmu, shaker_fmu, tmp_path):
     slaves = {}
     for key, path in (("plate", plate_fmu), ("shaker", shaker_fmu)):
         md = read_model_description(str(path))
-        slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(path), str(tmp_path / key)),
-                          modelIdentifier=md.coSimulation.modelIdentifier, instanceName=key)
+        slave = FMU2Slave(
+            guid=md.guid,
+            unzipDirectory=extract(str(path), str(tmp_path / key)),
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName=key,
+        )
         slaves[key] = (slave, {v.name: v.valueReference for v in md.modelVariables})
     (plate, p), (shaker, s) = slaves["plate"], slaves["shaker"]
     outputs = scalar_outputs(plate_fmu)
@@ -201,14 +259,16 @@ def test_the_plate_on_the_shaker_runs_without_an_algebraic_loop(fmu_path, tmp_pa
     fixed-step master's exchange at every communication point, which fmpy repeats, and the plate
     strikes the obstacles."""
     shaker = oms.shaker_fmu(tmp_path)
-    result, log = oms.run(coupled_ssp(fmu_path, shaker, tmp_path, "coupled.ssp"), tmp_path,
-                          COUPLED_STOP, COUPLED_STEP)
+    result, log = oms.run(
+        coupled_ssp(fmu_path, shaker, tmp_path, "coupled.ssp"), tmp_path, COUPLED_STOP, COUPLED_STEP
+    )
     assert LOOP_MESSAGE not in log, log
     expected = jacobi(fmu_path, shaker, tmp_path)
     assert len(result["time"]) == round(COUPLED_STOP / COUPLED_STEP) + 1
     assert_printed_alike(result, PLATE, expected, scalar_outputs(fmu_path))
-    np.testing.assert_array_equal(result[oms.signal("shaker", "position")],
-                                  oms.printed(expected["position"]))
+    np.testing.assert_array_equal(
+        result[oms.signal("shaker", "position")], oms.printed(expected["position"])
+    )
     # The shaker moves the base by millimetres and the plate strikes its obstacles.
     assert np.max(np.abs(expected["position"])) > 1e-3
     assert np.sum(expected["contact.impacts"]) >= 10

@@ -74,7 +74,7 @@ def test_the_manifest_names_the_layered_standard_and_every_file(fmu):
     related = {r.get("source"): r.get("role") for r in root.iter("Related")}
     with zipfile.ZipFile(fmu) as z:
         names = set(z.namelist())
-    for source, role in related.items():
+    for source in related:
         path = (
             source.removeprefix("../../") if source.startswith("../../") else f"{LS_REF}/{source}"
         )

@@ -4,8 +4,8 @@ every SSV parameter set of its folder. Each schema also refuses what it should (
 format of before, with the settings as attributes of `<Experiment>`; a role the manifest does not
 know; an SSV value of the wrong type), so that a pass means the files were checked."""
 
-import zipfile
 import xml.etree.ElementTree as ET
+import zipfile
 
 import pytest
 
@@ -55,8 +55,9 @@ def test_every_parameter_set_validates(fmu):
 def test_the_experiments_schema_refuses_the_format_of_before(fmu_path):
     """The settings as attributes of `<Experiment>`, as the experiments file had them before."""
     experiments = read(fmu_path, f"{LS_REF}/experiments.exp").decode()
-    before = experiments.replace('description="the scene energy">',
-                                 'description="the scene energy" startTime="0">', 1)
+    before = experiments.replace(
+        'description="the scene energy">', 'description="the scene energy" startTime="0">', 1
+    )
     assert before != experiments
     assert any("startTime" in e for e in errors("experiments", before.encode()))
 

@@ -26,7 +26,10 @@ def main():
     modes = int(sys.argv[9])
     sides = sys.argv[10:]
     mesh = gf.Mesh("empty", 2)
-    point = lambda i, j: [i * lx / nx, j * ly / ny]
+
+    def point(i, j):
+        return [i * lx / nx, j * ly / ny]
+
     for j in range(ny):
         for i in range(nx):
             a, b, c, e = point(i, j), point(i + 1, j), point(i, j + 1), point(i + 1, j + 1)
@@ -55,6 +58,7 @@ def main():
         "ymin": lambda p: abs(p[1]) < 1e-9 * ly,
         "ymax": lambda p: abs(p[1] - ly) < 1e-9 * ly,
     }
+
     def clamped(p, spec):
         name, *ends = spec.split(":")
         along = p[1] if name in ("xmin", "xmax") else p[0]
@@ -72,9 +76,10 @@ def main():
     md.add_initialized_data("nu", [nu])
     md.add_initialized_data("rho_e", [rho_e])
     md.add_initialized_data("L2", [lx * lx])
-    dense = lambda expression, region=-1: gf.asm_generic(
-        mim, 2, expression, region, md
-    ).full()
+
+    def dense(expression, region=-1):
+        return gf.asm_generic(mim, 2, expression, region, md).full()
+
     stiffness = dense(
         "D*((1-nu)*(Hess_Test_u:Hess_Test2_u) + nu*Trace(Hess_Test_u)*Trace(Hess_Test2_u))"
     )
