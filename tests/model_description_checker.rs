@@ -260,29 +260,29 @@ fn every_unknown_declares_dependencies_on_knowns_of_its_list() {
     // An output is no known of initialization; order and repetition are checked.
     rejected(
         &broken(
-            r#"<Unknown index="47" dependencies="7 8 9 42"/>"#,
-            r#"<Unknown index="47" dependencies="7 8 9 23"/>"#,
+            r#"<Unknown index="47" dependencies="7 8 9 42 48"/>"#,
+            r#"<Unknown index="47" dependencies="7 8 9 23 48"/>"#,
         ),
         &["solver.backend", "corner1.displacement", "not a known"],
     );
     rejected(
         &broken(
-            r#"<Unknown index="47" dependencies="7 8 9 42"/>"#,
-            r#"<Unknown index="47" dependencies="7 9 8 42"/>"#,
+            r#"<Unknown index="47" dependencies="7 8 9 42 48"/>"#,
+            r#"<Unknown index="47" dependencies="7 9 8 42 48"/>"#,
         ),
         &["solver.backend", "out of place"],
     );
     rejected(
         &broken(
-            r#"<Unknown index="46" dependencies="7 8 9"/>"#,
-            r#"<Unknown index="46" dependencies="7 8 900"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 9 48"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 900 48"/>"#,
         ),
         &["solver.free_dofs", "900", "names no variable"],
     );
     rejected(
         &broken(
-            r#"<Unknown index="46" dependencies="7 8 9"/>"#,
-            r#"<Unknown index="46" dependencies="7 8 9" dependenciesKind="dependent fixed fixed"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 9 48"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 9 48" dependenciesKind="dependent fixed fixed fixed"/>"#,
         ),
         &[
             "solver.free_dofs",
@@ -293,10 +293,10 @@ fn every_unknown_declares_dependencies_on_knowns_of_its_list() {
     );
     rejected(
         &broken(
-            r#"<Unknown index="46" dependencies="7 8 9"/>"#,
-            r#"<Unknown index="46" dependencies="7 8 9" dependenciesKind="dependent fixed"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 9 48"/>"#,
+            r#"<Unknown index="46" dependencies="7 8 9 48" dependenciesKind="dependent fixed"/>"#,
         ),
-        &["solver.free_dofs", "dependenciesKind", "2 entries for 3"],
+        &["solver.free_dofs", "dependenciesKind", "2 entries for 4"],
     );
     // FMI 3.0 outputs also know the parameters.
     check_fmi3(&broken3(
@@ -392,7 +392,7 @@ fn fmi3_model_structure_lists_outputs_by_value_reference() {
     );
     rejected3(
         &broken3(
-            "    <InitialUnknown valueReference=\"30\" dependencies=\"1 2 3 4 5 6 9 10 12 20 40 41 42 50 51\"/>\n",
+            "    <InitialUnknown valueReference=\"30\" dependencies=\"1 2 3 4 5 6 9 10 12 20 40 41 42 50 51 100 101 102 103\"/>\n",
             "",
         ),
         &["ModelStructure/InitialUnknown"],
@@ -507,15 +507,15 @@ fn the_two_descriptions_may_not_drift_apart() {
     // Dependencies by name: a known more or less in one description.
     disagrees(
         &broken3(
-            r#"<InitialUnknown valueReference="24" dependencies="40 41 42"/>"#,
-            r#"<InitialUnknown valueReference="24" dependencies="40 41"/>"#,
+            r#"<InitialUnknown valueReference="24" dependencies="40 41 42 100"/>"#,
+            r#"<InitialUnknown valueReference="24" dependencies="40 41 100"/>"#,
         ),
         &["solver.free_dofs", "FMI 2.0", "FMI 3.0"],
     );
     // The knowns only FMI 3.0 has may be listed there alone.
     let with_sizes = broken3(
-        r#"<InitialUnknown valueReference="24" dependencies="40 41 42"/>"#,
-        r#"<InitialUnknown valueReference="24" dependencies="40 41 42 71"/>"#,
+        r#"<InitialUnknown valueReference="24" dependencies="40 41 42 100"/>"#,
+        r#"<InitialUnknown valueReference="24" dependencies="40 41 42 71 100"/>"#,
     );
     check_same_variables(&check(XML).unwrap(), &check_fmi3(&with_sizes).unwrap())
         .expect("a structural parameter FMI 2.0 lacks");
