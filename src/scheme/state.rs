@@ -423,6 +423,27 @@ mod tests {
         }
     }
 
+    /// A state of a plate with another profile (a fixed parameter) is refused, naming the profile
+    /// and both texts; the stepper keeps its own state.
+    #[test]
+    fn a_state_of_another_profile_is_refused_by_name() {
+        let mut scene = Scene::default();
+        (scene.mesh.nx, scene.mesh.ny) = (3, 2);
+        let mut stud = scene.clone();
+        stud.obstacle.lower_profile = "point(x = 0.35, y = 0.1)".to_string();
+        let mut stepper = Stepper::new(&scene, 0.0).unwrap();
+        let mut other = Stepper::new(&stud, 0.0).unwrap();
+        other.step(1e-4).unwrap();
+        let err = stepper.restore(&other.state()).unwrap_err().to_string();
+        assert!(
+            err.contains("scene.obstacle.lower_profile")
+                && err.contains("point(x = 0.35, y = 0.1)")
+                && err.contains("\"flat\""),
+            "{err}"
+        );
+        assert_eq!(stepper.step_index(), 0, "nothing was applied");
+    }
+
     /// A non-finite energy flow is refused, naming the flows and their values.
     #[test]
     fn a_non_finite_flow_is_refused() {

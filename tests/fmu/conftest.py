@@ -166,6 +166,8 @@ class Plate:
             return self.fmu.getReal([self.vr(name)])[0]
         if kind in ("Integer", "Enumeration"):
             return self.fmu.getInteger([self.vr(name)])[0]
+        if kind == "String":
+            return self.fmu.getString([self.vr(name)])[0].decode()
         return self.fmu.getBoolean([self.vr(name)])[0]
 
     def initialize(self, start_values=None, start=0.0, stop=None):
