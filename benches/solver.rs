@@ -256,8 +256,19 @@ struct Case {
 /// and then released (`fvs-60x30-released`) or held (`fvs-60x30-pressed`), by 10 MPa onto an
 /// obstacle 1 µm below (`fvs-60x30-flat`, 1 798 of the 1 860 vertices in contact) or 10 nm below
 /// (`fvs-60x30-all`, every vertex in contact), and `sweep-ELEMENT-NXxNY[-BACKEND]`
-/// (`forced-35hz` on that mesh for 0.05 s, with the backend `auto` picks or the one named).
+/// (`forced-35hz` on that mesh for 0.05 s, with the backend `auto` picks or the one named), and
+/// `SCENE:DT:BACKEND[:flat]`, a shipped scene of local stops (`stud-corner`, `clamped-panel`) at
+/// the time step DT (s) on the backend `modal`, `sparse` or `auto`, for min(its stop time,
+/// 20 000 steps); with `:flat` its stop replaced by a flat obstacle, every vertex off the clamp a
+/// contact point, at the same level or twice the base amplitude below the plate if that is lower
+/// (docs/speed.md, "Local stops").
 fn case(name: &str) -> Case {
+    if name.contains(':') {
+        return Case {
+            name: name.to_string(),
+            scene: stop_scene(name).unwrap_or_else(|| panic!("unknown bench case {name}")),
+        };
+    }
     let forced = |element, nx, ny, stop| {
         let mut s = mesh_scene(element, nx, ny);
         s.stop_time = stop;
@@ -319,6 +330,35 @@ fn case(name: &str) -> Case {
         name: name.to_string(),
         scene,
     }
+}
+
+/// The scene of a case `SCENE:DT:BACKEND[:flat]` ([`case`]), `None` when the name is not one.
+fn stop_scene(name: &str) -> Option<Scene> {
+    let parts: Vec<&str> = name.split(':').collect();
+    let (scene, dt, backend) = (parts.first()?, parts.get(1)?, parts.get(2)?);
+    if !["stud-corner", "clamped-panel"].contains(scene) {
+        return None;
+    }
+    let mut s = Scene::named(scene).ok()?;
+    s.solver.time_step = dt.parse().ok()?;
+    s.stop_time = s.stop_time.min(20_000.0 * s.solver.time_step);
+    s.solver.linear = match *backend {
+        "auto" => LinearChoice::Auto,
+        "modal" => LinearChoice::Modal,
+        "sparse" => LinearChoice::Sparse,
+        _ => return None,
+    };
+    match parts.get(3) {
+        None => {}
+        Some(&"flat") => {
+            s.obstacle.lower_profile = "flat".to_string();
+            // A flat obstacle lies under the clamp too, where the base must not reach it.
+            s.obstacle.lower = s.obstacle.lower.min(-2.0 * s.base.amplitude);
+        }
+        Some(_) => return None,
+    }
+    s.validate().ok()?;
+    Some(s)
 }
 
 /// Runs `bench --case name` (with `--csv` if `csv`) in a child process and passes its output
