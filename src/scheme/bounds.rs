@@ -13,19 +13,43 @@
 pub(crate) struct ObstacleBounds<'a> {
     /// [g1 − z_{n+1}, g2 − z_{n+1}]: −∞ and +∞ for a disabled obstacle.
     pub(crate) levels: [f64; 2],
-    /// [h₁, h₂] per contact point.
-    pub(crate) heights: &'a [Vec<f64>; 2],
+    /// [h₁, h₂] per contact point; `None` when every height is 0 (flat obstacles), so that the
+    /// bounds of the paper's scenes are read from the levels alone, as before profiles existed.
+    heights: Option<&'a [Vec<f64>; 2]>,
 }
 
-impl ObstacleBounds<'_> {
+impl<'a> ObstacleBounds<'a> {
+    /// The bounds `levels` plus `heights` ([h₁, h₂] per contact point).
+    pub(crate) fn new(levels: [f64; 2], heights: &'a [Vec<f64>; 2]) -> Self {
+        let flat = heights.iter().all(|h| h.iter().all(|&x| x == 0.0));
+        ObstacleBounds {
+            levels,
+            heights: (!flat).then_some(heights),
+        }
+    }
+
+    /// The bounds `levels` at every contact point: flat obstacles.
+    pub(crate) fn flat(levels: [f64; 2]) -> Self {
+        ObstacleBounds {
+            levels,
+            heights: None,
+        }
+    }
+
     /// The lower bound of point i.
     pub(crate) fn lower(&self, i: usize) -> f64 {
-        self.levels[0] + self.heights[0][i]
+        match self.heights {
+            None => self.levels[0],
+            Some(h) => self.levels[0] + h[0][i],
+        }
     }
 
     /// The upper bound of point i.
     pub(crate) fn upper(&self, i: usize) -> f64 {
-        self.levels[1] + self.heights[1][i]
+        match self.heights {
+            None => self.levels[1],
+            Some(h) => self.levels[1] + h[1][i],
+        }
     }
 
     /// Whether `y` lies within point i's bounds.

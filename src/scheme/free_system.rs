@@ -55,6 +55,8 @@ pub struct FreeSystem {
     /// +∞ where an obstacle is absent; 0 everywhere for flat obstacles): the bounds of a step are
     /// g1 − z + h₁_i ≤ (Bw)_i ≤ g2 − z + h₂_i.
     pub heights: [Vec<f64>; 2],
+    /// Whether every height is 0 (flat obstacles): a step's bounds are then the levels.
+    pub flat: bool,
     /// The stop each contact point belongs to on each side (lower, upper), numbered over both
     /// obstacles ([`crate::obstacles::Height::stop`]), for the per-stop outputs.
     pub point_stops: Vec<[Option<usize>; 2]>,
@@ -116,6 +118,7 @@ impl FreeSystem {
             &mut m_translation,
         );
         let layout = &plate.layout;
+        let heights = layout.heights();
         FreeSystem {
             mass,
             stiffness,
@@ -131,7 +134,7 @@ impl FreeSystem {
                     .iter()
                     .map(|r| (&r.dofs[..], &r.weights[..])),
             ),
-            heights: layout.heights(),
+            flat: heights.iter().all(|h| h.iter().all(|&x| x == 0.0)),
             point_stops: layout
                 .points
                 .iter()
@@ -142,7 +145,6 @@ impl FreeSystem {
             corner_heights: {
                 let corners = &crate::system::output_points(scene)[..2];
                 let point = |c: &[f64; 2]| layout.points.iter().position(|p| p.position == *c);
-                let heights = layout.heights();
                 [0, 1].map(|side| {
                     let absent = [f64::NEG_INFINITY, f64::INFINITY][side];
                     corners
@@ -152,6 +154,7 @@ impl FreeSystem {
                 })
             },
             nearest_heights: scene.nearest_heights(),
+            heights,
             outputs: plate.outputs.each_ref().map(|f| {
                 let mut row = vec![0.0; keep.len()];
                 for (&d, &w) in f.dofs.iter().zip(&f.weights) {

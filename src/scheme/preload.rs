@@ -52,8 +52,8 @@ pub fn static_preload(
         use faer::linalg::solvers::Solve;
         factor.solve_in_place(faer::ColMut::from_slice_mut(&mut w).as_mat_mut());
     }
-    let bounds = ObstacleBounds {
-        levels: [
+    let bounds = ObstacleBounds::new(
+        [
             scene
                 .lower_obstacle()
                 .map_or(f64::NEG_INFINITY, |g| g - initial_base),
@@ -61,8 +61,8 @@ pub fn static_preload(
                 .upper_obstacle()
                 .map_or(f64::INFINITY, |g| g - initial_base),
         ],
-        heights: &free.heights,
-    };
+        &free.heights,
+    );
     let rows = &free.contact;
     let feasible = (0..m).all(|i| bounds.admits(i, rows.value(i, &w)));
     if feasible {

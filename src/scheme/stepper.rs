@@ -737,9 +737,10 @@ impl Run {
 
     /// The obstacles' bounds of the step `input` at every contact point.
     fn bounds(&self, input: &StepInput) -> ObstacleBounds<'_> {
-        ObstacleBounds {
-            levels: input.obstacles,
-            heights: &self.free.heights,
+        if self.free.flat {
+            ObstacleBounds::flat(input.obstacles)
+        } else {
+            ObstacleBounds::new(input.obstacles, &self.free.heights)
         }
     }
 

@@ -48,10 +48,7 @@ fn flat(m: usize) -> [Vec<f64>; 2] {
 
 /// The bounds [`lower`, `upper`] of flat obstacles with `heights` [`flat`].
 fn bounds(lower: f64, upper: f64, heights: &[Vec<f64>; 2]) -> ObstacleBounds<'_> {
-    ObstacleBounds {
-        levels: [lower, upper],
-        heights,
-    }
+    ObstacleBounds::new([lower, upper], heights)
 }
 
 /// Prediction `case` of a sweep from far inside the bounds of the tests below to past them,
