@@ -314,8 +314,13 @@ fn git(root: &Path, args: &[&str]) -> Option<String> {
 }
 
 /// The commit checked out at `root` and what Git says of it for `version`, or `None` outside a
-/// Git checkout (a source archive) or without Git.
+/// Git checkout of `root` itself (a source archive, even one unpacked inside another checkout)
+/// or without Git.
 pub fn commit(root: &Path, version: &str) -> Option<Commit> {
+    let top = git(root, &["rev-parse", "--show-toplevel"])?;
+    if Path::new(&top).canonicalize().ok()? != root.canonicalize().ok()? {
+        return None;
+    }
     let hash = git(root, &["rev-parse", "--verify", "HEAD"])?;
     let time = git(
         root,
@@ -477,6 +482,54 @@ mod tests {
         assert!(dev[1].contains("no Git commit"), "{dev:?}");
         let missing = release_problems("1.2.0", RELEASED, Some(&commit(false, None)), url);
         assert!(missing[0].contains("no section `## 1.2.0"), "{missing:?}");
+    }
+
+    #[test]
+    fn git_gives_the_commit_its_time_changes_and_release_tag() {
+        let dir = std::env::temp_dir().join(format!("plate-impact-version-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        assert!(
+            super::commit(&dir, "1.0.0").is_none(),
+            "outside a Git checkout"
+        );
+        let git = |args: &[&str]| {
+            let done = Command::new("git")
+                .arg("-C")
+                .arg(&dir)
+                .args(["-c", "user.name=t", "-c", "user.email=t@example.org"])
+                .args(["-c", "commit.gpgsign=false", "-c", "tag.gpgsign=false"])
+                .args(args)
+                .env("GIT_AUTHOR_DATE", "2026-12-07T10:11:12+02:00")
+                .env("GIT_COMMITTER_DATE", "2026-12-07T10:11:12+02:00")
+                .output()
+                .unwrap();
+            assert!(done.status.success(), "git {args:?}: {done:?}");
+        };
+        git(&["init", "-q"]);
+        std::fs::write(dir.join("file"), "one").unwrap();
+        git(&["add", "file"]);
+        git(&["commit", "-q", "-m", "one"]);
+        let first = super::commit(&dir, "1.0.0").unwrap();
+        assert_eq!(first.hash.len(), 40);
+        assert_eq!(
+            first.time, "2026-12-07T08:11:12Z",
+            "the committer's time in UTC"
+        );
+        assert!(!first.modified && first.release_tag.is_none());
+        // An annotated tag names its commit; a -dev version looks for the tag of its X.Y.Z.
+        git(&["tag", "-a", "v1.0.0", "-m", "release"]);
+        for version in ["1.0.0", "1.0.0-dev"] {
+            let tagged = super::commit(&dir, version).unwrap();
+            assert_eq!(tagged.release_tag.as_deref(), Some(first.hash.as_str()));
+        }
+        assert!(super::commit(&dir, "1.1.0").unwrap().release_tag.is_none());
+        std::fs::write(dir.join("other"), "untracked").unwrap();
+        assert!(super::commit(&dir, "1.0.0").unwrap().modified);
+        // Sources unpacked inside another checkout are not that checkout's commit.
+        std::fs::create_dir_all(dir.join("unpacked")).unwrap();
+        assert!(super::commit(&dir.join("unpacked"), "1.0.0").is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
