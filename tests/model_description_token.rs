@@ -81,8 +81,13 @@ fn a_changed_variable_changes_the_token() {
         ),
         // another value reference
         edited(XML, "valueReference=\"68\"", "valueReference=\"69\""),
-        // the version
-        edited(XML, "version=\"1.0.0\"", "version=\"1.1.0\""),
+        // the version: a release (X.Y.Z-dev becomes X.Y.Z) has another token than the builds
+        // before it
+        edited(
+            XML,
+            &format!("version=\"{}\"", env!("CARGO_PKG_VERSION")),
+            "version=\"99.0.0\"",
+        ),
     ];
     for changed in &changes {
         assert_ne!(derive(changed, "guid").unwrap(), token);

@@ -8,21 +8,24 @@
 //!   `binaries/<platform tuple>/` (FMI 3.0 §2.5).
 //!
 //! Both also carry `documentation/index.html` and, under `extra/org.fmi-standard.fmi-ls-ref/`, the
-//! shipped scenes as parameter sets with their reference results ([`contents`]).
-//! `package-fmu --write-docs` only rewrites the variable tables of the docs from the model
-//! descriptions ([`documentation`]).
+//! shipped scenes as parameter sets with their reference results ([`contents`]), and their
+//! licences under `documentation/licenses/` ([`licenses`]). `package-fmu --write-docs` only
+//! rewrites the variable tables of the docs from the model descriptions ([`documentation`]).
 //!
 //! The model descriptions are those the library was built with (`SHIPPED_FMI2_XML`,
 //! `SHIPPED_FMI3_XML`: the guid and instantiationToken derived from their content by build.rs), and
 //! each binary must carry both tokens, so that an FMU never pairs a description with a binary
-//! built from another.
+//! built from another. Packaging stamps their `version` with the commit (`1.1.0-dev+<commit>`
+//! between releases) and sets `generationDateAndTime`, after checking that the repository's
+//! version, CHANGELOG.md and release tags agree ([`version`]); `--release` (what
+//! `scripts/release` runs) also refuses what stands in a release's way, before any build.
 //!
 //! Every binary is the same cdylib (it exports the FMI 2.0 and the FMI 3.0 functions), built for
 //! one platform. Two modes (docs/platforms.md):
 //! * `cargo run --release --bin package-fmu`, the developer FMUs: `cargo build --release --lib`,
 //!   this machine's x86_64 Linux library only, with debug info, linked against this machine's glibc;
-//! * `cargo run --release --bin package-fmu -- --all-platforms` (or `PLATE_IMPACT_PLATFORMS=all`),
-//!   the release FMUs: three binaries (five entries in the two FMUs) built with the `release-fmu`
+//! * `cargo run --release --bin package-fmu -- --all-platforms` (or `PLATE_IMPACT_PLATFORMS=all`;
+//!   `--release` implies it), the release FMUs: three binaries (five entries in the two FMUs) built with the `release-fmu`
 //!   profile (the release profile without debug info, stripped), by cross toolchains from the
 //!   package registries: x86_64 Linux and aarch64 Linux (FMI 3.0 only: FMI 2.0 has no standard
 //!   folder for it) linked by zig against glibc 2.17 (`cargo zigbuild`), x86_64 Windows linked by
@@ -36,6 +39,10 @@
 mod contents;
 #[path = "package-fmu/documentation.rs"]
 mod documentation;
+#[path = "package-fmu/licenses.rs"]
+mod licenses;
+#[path = "package-fmu/version.rs"]
+mod version;
 
 use plate_impact::fmi::variables::{
     FMI2, FMI3, MODEL_IDENTIFIER, SHIPPED_FMI2_XML, SHIPPED_FMI3_XML,
@@ -148,6 +155,9 @@ fn on_path(name: &str, path: &OsString) -> Option<PathBuf> {
         .map(|dir| dir.join(name))
         .find(|file| file.is_file())
 }
+
+/// The Rust target of the developer build's binary.
+const HOST_TRIPLE: &str = "x86_64-unknown-linux-gnu";
 
 /// The developer build: `cargo build --release --lib` for this machine.
 fn host_binary(root: &Path, target: &Path) -> Result<Binary, String> {
@@ -404,6 +414,9 @@ fn write_fmu(
 struct Options {
     /// The release FMUs: `--all-platforms` or `PLATE_IMPACT_PLATFORMS=all`.
     all_platforms: bool,
+    /// `--release`: the FMUs of a release, which `version::release_problems` must allow; implies
+    /// `--all-platforms`.
+    release: bool,
     /// `--write-docs`: rewrite the variable tables of the docs, package nothing.
     write_docs: bool,
 }
@@ -419,19 +432,23 @@ fn options() -> Result<Options, String> {
         }
     };
     let mut write_docs = false;
+    let mut release = false;
     for arg in std::env::args().skip(1) {
         match arg.as_str() {
             "--all-platforms" => all = true,
+            "--release" => release = true,
             "--write-docs" => write_docs = true,
             _ => {
                 return Err(format!(
-                    "unknown argument {arg} (the arguments are --all-platforms and --write-docs)"
+                    "unknown argument {arg} (the arguments are --all-platforms, --release and \
+                     --write-docs)"
                 ))
             }
         }
     }
     Ok(Options {
-        all_platforms: all,
+        all_platforms: all || release,
+        release,
         write_docs,
     })
 }
@@ -453,19 +470,68 @@ fn write_docs(root: &Path) -> Result<Vec<PathBuf>, String> {
         .collect()
 }
 
-/// Checks that both model descriptions declare the crate's version: one version for the library
-/// and both FMUs.
-fn check_version() -> Result<&'static str, String> {
-    let version = env!("CARGO_PKG_VERSION");
-    for (fmi, text) in [("2.0", SHIPPED_FMI2_XML), ("3.0", SHIPPED_FMI3_XML)] {
-        if !text.contains(&format!("\n  version=\"{version}\"\n")) {
+/// The attributes of `<fmiModelDescription>` that say whose the FMU is: present in both model
+/// descriptions, and the same.
+const IDENTITY: [&str; 3] = ["author", "copyright", "license"];
+
+/// The value of the attribute `name` of `<fmiModelDescription>` in `xml`, if declared.
+fn root_attribute<'a>(xml: &'a str, name: &str) -> Option<&'a str> {
+    let start = xml.find("<fmiModelDescription")?;
+    let tag = &xml[start..start + xml[start..].find('>')?];
+    let pattern = format!("{name}=\"");
+    let at = tag
+        .match_indices(&pattern)
+        .map(|(i, _)| i)
+        .find(|&i| tag[..i].ends_with(char::is_whitespace))?;
+    let value = &tag[at + pattern.len()..];
+    value.find('"').map(|end| &value[..end])
+}
+
+/// The model description `xml` (FMI `fmi`) as the FMU ships it: `version` stamped with the build
+/// (`build.version`, module `version`) and `generationDateAndTime` the commit's time, when known.
+/// Checks that the hand-kept file declares the crate's version (one version for the library and
+/// both FMUs), says whose the FMU is ([`IDENTITY`]), and leaves the generation time to the build.
+fn shipped_description(xml: &str, fmi: &str, build: &version::Build) -> Result<String, String> {
+    let crate_version = env!("CARGO_PKG_VERSION");
+    let declared = format!("\n  version=\"{crate_version}\"\n");
+    if root_attribute(xml, "version") != Some(crate_version) || !xml.contains(&declared) {
+        return Err(format!(
+            "the FMI {fmi} model description does not declare version=\"{crate_version}\" on a \
+             line of its own, the crate's version (Cargo.toml): set the same version in all three"
+        ));
+    }
+    for name in IDENTITY {
+        if root_attribute(xml, name).is_none_or(str::is_empty) {
             return Err(format!(
-                "the FMI {fmi} model description does not declare version=\"{version}\", the \
-                 crate's version (Cargo.toml): set the same version in all three"
+                "the FMI {fmi} model description does not say its {name}: every FMU names its \
+                 author, copyright and license"
             ));
         }
     }
-    Ok(version)
+    if root_attribute(xml, "generationDateAndTime").is_some() {
+        return Err(format!(
+            "the FMI {fmi} model description declares generationDateAndTime: the build sets it \
+             (the commit's time)"
+        ));
+    }
+    let mut stamped = format!("\n  version=\"{}\"\n", build.version);
+    if let Some(commit) = &build.commit {
+        stamped.push_str(&format!("  generationDateAndTime=\"{}\"\n", commit.time));
+    }
+    Ok(xml.replacen(&declared, &stamped, 1))
+}
+
+/// Checks that both model descriptions say the same of whose the FMU is ([`IDENTITY`]).
+fn check_same_identity(fmi2: &str, fmi3: &str) -> Result<(), String> {
+    for name in IDENTITY {
+        let (a, b) = (root_attribute(fmi2, name), root_attribute(fmi3, name));
+        if a != b {
+            return Err(format!(
+                "the model descriptions disagree on {name}: {a:?} (FMI 2.0), {b:?} (FMI 3.0)"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Where the release builds keep their cargo target directories: `PLATE_IMPACT_CROSS_TARGET_DIR`
@@ -479,15 +545,52 @@ fn cross_target_dir(root: &Path, target: &Path) -> PathBuf {
         .unwrap_or_else(|| target.to_path_buf())
 }
 
+/// What the FMUs will say about this build: the crate's version stamped with the commit, after
+/// checking that CHANGELOG.md and the release tags agree with it, and for a release that nothing
+/// stands in its way.
+fn build(root: &Path, release: bool) -> Result<version::Build, String> {
+    let crate_version = env!("CARGO_PKG_VERSION");
+    let changelog = std::fs::read_to_string(root.join("CHANGELOG.md"))
+        .map_err(|e| format!("cannot read CHANGELOG.md: {e}"))?;
+    let commit = version::commit(root, crate_version);
+    version::check_repository(crate_version, &changelog, commit.as_ref())?;
+    let repository = env!("CARGO_PKG_REPOSITORY");
+    if release {
+        let problems =
+            version::release_problems(crate_version, &changelog, commit.as_ref(), repository);
+        if !problems.is_empty() {
+            return Err(format!(
+                "cannot release {crate_version}:\n  {}",
+                problems.join("\n  ")
+            ));
+        }
+    }
+    Ok(version::Build {
+        version: version::stamped(crate_version, commit.as_ref(), release),
+        commit,
+        repository,
+    })
+}
+
 fn run() -> Result<Vec<PathBuf>, String> {
     let options = options()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     if options.write_docs {
         return write_docs(root);
     }
-    let version = check_version()?;
+    let build = build(root, options.release)?;
+    eprintln!("package-fmu: PlateImpact {}", build.version);
+    let fmi2 = shipped_description(SHIPPED_FMI2_XML, "2.0", &build)?;
+    let fmi3 = shipped_description(SHIPPED_FMI3_XML, "3.0", &build)?;
+    check_same_identity(&fmi2, &fmi3)?;
     // The extra files first: a stale docs table stops packaging before any build.
-    let extra = contents::entries(root, version)?;
+    let mut extra = contents::entries(root, &build)?;
+    let triples: Vec<&str> = if options.all_platforms {
+        PLATFORMS.iter().map(|p| p.triple).collect()
+    } else {
+        vec![HOST_TRIPLE]
+    };
+    extra.extend(licenses::entries(root, &build.version, &triples)?);
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .map(|t| if t.is_absolute() { t } else { root.join(t) })
@@ -505,7 +608,7 @@ fn run() -> Result<Vec<PathBuf>, String> {
         write_fmu(
             &out_dir,
             &format!("{MODEL_IDENTIFIER}.fmu"),
-            SHIPPED_FMI2_XML,
+            &fmi2,
             &binaries,
             |b| b.fmi2,
             &extra,
@@ -513,7 +616,7 @@ fn run() -> Result<Vec<PathBuf>, String> {
         write_fmu(
             &out_dir,
             &format!("{MODEL_IDENTIFIER}-fmi3.fmu"),
-            SHIPPED_FMI3_XML,
+            &fmi3,
             &binaries,
             |b| Some(b.fmi3),
             &extra,

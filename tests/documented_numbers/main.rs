@@ -99,7 +99,7 @@ fn share_claims() -> claims::Claims {
     );
     c.value("{10} % are checked against committed data", pct(t.claimed));
     c.value("{13} % are inputs", pct(t.inputs));
-    c.value("{13} % are sides of mesh names", pct(t.meshes));
+    c.value("{12} % are sides of mesh names", pct(t.meshes));
     c.value("the other {65} %", pct(unchecked));
     c
 }

@@ -1,6 +1,7 @@
 """The C host of examples/c/: its constants match modelDescription.xml, it builds warning-free
 both ways (dlopen and linked) with the machine's C compiler against the FMI 2.0 headers that fmpy
-ships, and both builds print exactly the numbers fmpy gets from the same FMU."""
+ships, both builds print exactly the numbers fmpy gets from the same FMU, and what they print on
+stdout and stderr is what docs/usage.md shows."""
 
 import os
 import pathlib
@@ -57,6 +58,7 @@ def hosts(unzipdir, tmp_path_factory):
 
 
 def run_host(host, unzipdir):
+    """(the values it printed, by (final|restored, name); its stdout; its stderr)."""
     done = subprocess.run([str(host), str(unzipdir)], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, f"{host.name} failed:\n{done.stdout}\n{done.stderr}"
     values = {}
@@ -64,7 +66,7 @@ def run_host(host, unzipdir):
         match = re.fullmatch(r"(final|restored) (\S+) (\S+) \(.*\)", line)
         if match:
             values[match[1], match[2]] = float.fromhex(match[3])
-    return values, done.stdout.splitlines()[-1], done.stderr
+    return values, done.stdout, done.stderr
 
 
 def test_the_c_constants_match_the_model_description(model_description):
@@ -102,7 +104,8 @@ def test_both_c_builds_equal_fmpy_bit_for_bit(hosts, unzipdir, new_plate):
     names = ["corner1.displacement", "corner2.displacement", "energy.total"]
     reference = {name: plate.get(name) for name in names}
     for build, host in hosts.items():
-        values, summary, log = run_host(host, unzipdir)
+        values, printed, log = run_host(host, unzipdir)
+        summary = printed.splitlines()[-1]
         for label in ("final", "restored"):
             for name in names:
                 assert values[label, name].hex() == reference[name].hex(), (build, label, name)
@@ -112,3 +115,17 @@ def test_both_c_builds_equal_fmpy_bit_for_bit(hosts, unzipdir, new_plate):
         assert re.search(
             r"\[plate\] error logStatusError: fmi2SetReal: .*material\.poisson_ratio", log
         ), log
+
+
+def test_the_host_prints_what_the_docs_show(hosts, unzipdir):
+    """docs/usage.md, "From C", shows the host's stdout and stderr in two text blocks: both builds
+    print them to the character (the summary names the build)."""
+    text = (ROOT / "docs" / "usage.md").read_text()
+    section = text[text.index("\n## From C\n") :]
+    following = section.find("\n## ", 1)
+    section = section if following < 0 else section[:following]
+    stdout, stderr = re.findall(r"```text\n(.*?)```", section, re.S)[:2]
+    for build, host in hosts.items():
+        _, printed, log = run_host(host, unzipdir)
+        assert printed == stdout.replace("(dlopen)", f"({build})"), build
+        assert log == stderr, build

@@ -3,6 +3,9 @@
 - `fmu_dask`: the packaged FMU run as Dask tasks (or serially), shared by the studies below;
 - `windows`: statistics of a steady state over windows of a recorded run;
 - `scene_values`: FMU start values from the scene files and from `name=value` text;
+- `references`: the parameter sets, experiments and reference results a packaged FMU carries, for
+  fmpy;
+- `field`: the FMI 3.0 FMU's deflection field on any mesh through fmpy (Configuration Mode);
 - `plotting`: matplotlib without a display, and the helpers the plots share;
 - `converge`: the convergence study of a user's scene (`scripts/converge`);
 - `studies`: the Python of the studies that regenerate docs/ (plots, generated Markdown, the

@@ -3,7 +3,9 @@
 //! 1.0.0-alpha.1), the shipped scenes as SSP parameter sets, their reference results and the
 //! experiments that pair them (docs/fmu.md, "What the FMU carries").
 //!
-//! * `documentation/index.html`: `docs/fmu-documentation.md` rendered ([`documentation::html`]);
+//! * `documentation/index.html`: `docs/fmu-documentation.md` rendered ([`documentation::html`]),
+//!   followed by the section on this build ([`Build::about`]): its version and commit, where the
+//!   full documentation lives, the licence;
 //! * `documentation/fmi-ls-ref.html`: `docs/fmi-ls-ref.md` rendered, the page FMI-LS-REF
 //!   recommends for what the references are, their intent and the deviations to expect;
 //! * `extra/org.fmi-standard.fmi-ls-ref/fmi-ls-manifest.xml`: one `<Related>` per file below and
@@ -21,6 +23,7 @@
 //! Paths in the manifest and in `experiments.exp` are relative to the folder that holds them.
 
 use crate::documentation;
+use crate::version::Build;
 use plate_impact::fmi::model::Value;
 use plate_impact::fmi::plate::{parameter_value, text_parameter};
 use plate_impact::fmi::variables::{Causality, Kind, FMI2};
@@ -145,8 +148,10 @@ fn manifest(scenes: &[(&str, Scene)]) -> String {
     out
 }
 
-/// Every extra file of both FMUs, read or generated from the repository at `root`.
-pub fn entries(root: &Path, version: &str) -> Result<Vec<Entry>, String> {
+/// Every extra file of both FMUs but the licences, read or generated from the repository at
+/// `root` for `build`.
+pub fn entries(root: &Path, build: &Build) -> Result<Vec<Entry>, String> {
+    let version = &build.version;
     let read = |relative: &str| {
         std::fs::read_to_string(root.join(relative))
             .map_err(|e| format!("cannot read {relative}: {e}"))
@@ -162,7 +167,7 @@ pub fn entries(root: &Path, version: &str) -> Result<Vec<Entry>, String> {
         }
     }
     let page = documentation::html(
-        &read(documentation::PAGE_SOURCE)?,
+        &format!("{}\n{}", read(documentation::PAGE_SOURCE)?, build.about()),
         &format!("PlateImpact {version}"),
     );
     let (references_page, references_source) = REFERENCES_PAGE;
@@ -231,7 +236,12 @@ mod tests {
     #[test]
     fn the_manifest_lists_every_file_the_experiments_use() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let entries = entries(root, "0.0.0").unwrap();
+        let build = Build {
+            version: "0.0.0".into(),
+            commit: None,
+            repository: "",
+        };
+        let entries = entries(root, &build).unwrap();
         let names: Vec<&str> = entries.iter().map(|(n, _)| n.as_str()).collect();
         let text = |name: &str| {
             let (_, bytes) = entries.iter().find(|(n, _)| n == name).unwrap();
