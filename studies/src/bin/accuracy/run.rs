@@ -3,11 +3,11 @@
 //! reference traces, the reference's self-convergence check and the paper's Table 1 case.
 
 use super::plan::{base_motion, build_scene, strategy_name, Case, Plan, GRID, REFERENCE_HZ};
-use crate::common::element_name;
 use plate_impact::element::ElementKind;
 use plate_impact::scene::QpChoice;
 use plate_impact::scheme::{StepPath, Stepper};
 use plate_impact::system::PlateSystem;
+use plate_impact_studies::element::element_name;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::time::Instant;

@@ -587,6 +587,6 @@ fn extra_runs(part: Part, model: &dyn Fn(&str) -> Option<usize>) -> Vec<Run> {
 
 /// A mesh of `--mesh argyris:10x7`.
 pub fn parse_mesh(item: &str) -> Result<Mesh, String> {
-    let (element, nx, ny) = crate::common::parse_mesh_cells(item)?;
+    let (element, nx, ny) = plate_impact_studies::element::parse_mesh_cells(item)?;
     Ok(Mesh::new(element, nx, ny))
 }

@@ -3,7 +3,7 @@
 //! with their spreads from windows and from perturbed replicas, the correlation time that sets the
 //! windows, and where the energy sits among the modes (docs/accuracy/modal_damping.md).
 //!
-//! `cargo run --release --example modal_damping [-- --quick | --plan] [--out DIR] [selection]`
+//! `cargo run --release -p plate_impact_studies --bin modal_damping [-- --quick | --plan] [--out DIR] [selection]`
 //!
 //! Without a selection the committed plan runs ([`committed_plan`], `--plan` lists its lines), then
 //! `python -m plateimpact_tools.studies.modal_damping_plots` writes the plots and the generated
@@ -48,14 +48,14 @@
 //! `--quick`: Argyris 4 × 2 at Δt = 1e-4 and 1e-5 s, 35 Hz, ζ = 1 %, 2 s, two replicas, into a
 //! temporary directory; it checks the pipeline and the modal energy against `energy.elastic`.
 
-#[path = "../common/mod.rs"]
-mod common;
-
-use common::{element_name, exit_code, source_revision, StudyDir};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
+use plate_impact_studies::cli::{exit_code, flag_value};
+use plate_impact_studies::element::{element_name, parse_mesh_cells};
+use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::revision::source_revision;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -748,7 +748,7 @@ fn quick_plan() -> Plan {
 fn parse_meshes(list: &str) -> Result<Vec<Mesh>, String> {
     list.split(',')
         .map(|item| {
-            let (element, nx, ny) = common::parse_mesh_cells(item)?;
+            let (element, nx, ny) = parse_mesh_cells(item)?;
             Ok(Mesh { element, nx, ny })
         })
         .collect()
@@ -769,7 +769,7 @@ fn parse_numbers(flag: &str, list: &str) -> Result<Vec<f64>, String> {
 /// The plan of the command line: `--quick`, the committed plan, or a part of it; and whether it
 /// is a part.
 fn plan_of(args: &[String], quick: bool) -> Result<(Plan, bool), String> {
-    let value_of = |flag: &str| common::flag_value(args, flag);
+    let value_of = |flag: &str| flag_value(args, flag);
     let number = |flag: &str| -> Result<Option<f64>, String> {
         value_of(flag)?
             .map(|v| parse_numbers(flag, &v).map(|x| x[0]))

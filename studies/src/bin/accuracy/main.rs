@@ -2,10 +2,10 @@
 //! from coarse to fine and Δt from 1e-3 to 1e-6 s, plus the paper's Table 1 case and clarabel on
 //! every step as a second strategy.
 //!
-//! `cargo run --release --example accuracy [-- --quick] [--out DIR]`
+//! `cargo run --release -p plate_impact_studies --bin accuracy [-- --quick] [--out DIR]`
 //!
-//! The study in three steps: the plan (`accuracy/plan.rs`: scenes, meshes, Δt levels and the
-//! cases they make, one per simulation), the run (`accuracy/run.rs`: the simulations and the CSVs
+//! The study in three steps: the plan (`plan.rs`: scenes, meshes, Δt levels and the
+//! cases they make, one per simulation), the run (`run.rs`: the simulations and the CSVs
 //! of their results) and the write (`python -m plateimpact_tools.studies.accuracy_plots`, the
 //! package in `tools/` run with the Python of `scripts/python-env`: the plots and the tables of
 //! `README.md`, whose prose is hand-written).
@@ -27,17 +27,16 @@
 //! order in Δt of the contact-free case is within 0.2 of 2 and the whole pipeline (CSV, plots,
 //! README) completes.
 
-#[path = "../common/mod.rs"]
-mod common;
-#[path = "accuracy/plan.rs"]
 mod plan;
-#[path = "accuracy/run.rs"]
 mod run;
 
-use common::{element_name, exit_code, source_revision, StudyDir};
 use plan::{cases, full_plan, quick_plan, Case, Plan};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::QpChoice;
+use plate_impact_studies::cli::exit_code;
+use plate_impact_studies::element::element_name;
+use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::revision::source_revision;
 use run::{difference, Results};
 use std::fmt::Write as _;
 use std::process::ExitCode;

@@ -1,12 +1,12 @@
-//! Running a plan: one simulation per [`Run`], its statistics and spreads (see the example's
-//! documentation), and the rows of the study's CSVs.
+//! Running a plan: one simulation per [`Run`], its statistics and spreads (see the study's
+//! documentation in main.rs), and the rows of the study's CSVs.
 
 use super::plan::{Forcing, Mesh, Plan, Run, SceneKind, ZETA1};
-use crate::common::element_name;
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
+use plate_impact_studies::element::element_name;
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -23,7 +23,7 @@ pub const FORCED_PERTURBATION_PA: f64 = 1e-4;
 /// Times at which the `energy` scene's energy is read (s); the last is its horizon.
 const ENERGY_TIMES: [f64; 2] = [0.1, 0.3];
 
-/// A statistic of one run: its value and spread (see the example's documentation).
+/// A statistic of one run: its value and spread (see the study's documentation (main.rs)).
 #[derive(Clone, Copy, Debug)]
 pub struct Stat {
     pub quantity: &'static str,

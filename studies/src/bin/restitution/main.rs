@@ -1,7 +1,7 @@
 //! What the impact laws do in a scene: the measurements behind docs/restitution/ (the single runs
 //! are plotted by `plateimpact_tools.studies.restitution`), and the per-step cost of the laws.
 //!
-//! `cargo run --release --example restitution -- <scene> [key=value ...] [--csv FILE] [--every N]`
+//! `cargo run --release -p plate_impact_studies --bin restitution -- <scene> [key=value ...] [--csv FILE] [--every N]`
 //!
 //! runs the scene (`default` or a file stem of `scenes/`; overrides as for the `scene` example,
 //! e.g. `solver.restitution=0.5 solver.time_step=1e-5 solver.impact_law=newton`) and prints one
@@ -9,21 +9,17 @@
 //! With `--csv FILE` the trajectory goes to FILE (`t,corner1,energy_total`, every N-th step with
 //! `--every N`, n = 0 first).
 //!
-//! `cargo run --release --example restitution -- --timing E1,E2,... <scene> [key=value ...]`
+//! `cargo run --release -p plate_impact_studies --bin restitution -- --timing E1,E2,... <scene> [key=value ...]`
 //!
 //! instead times the scene's steps for each restitution E1, E2, … in one process (five runs each,
 //! medians), split into steps proven contact-free by the screening, steps checked free in full,
 //! and steps needing a QP; it prints one line per e.
 //!
-//! `cargo run --release --example restitution -- --study [--quick] [--out DIR]`
+//! `cargo run --release -p plate_impact_studies --bin restitution -- --study [--quick] [--out DIR]`
 //!
 //! runs the study of docs/restitution/ and writes its CSVs there ([`study`]); `--quick` runs a
 //! small subset into a temporary directory to check the pipeline.
 
-#[path = "../common/mod.rs"]
-mod common;
-
-use common::{element_name, exit_code, positive_integer, set_override, StudyDir};
 use plate_impact::element::ElementKind;
 use plate_impact::fmi::fmi2::instance::Fmi2;
 use plate_impact::fmi::instance::{Instance, Version};
@@ -32,6 +28,9 @@ use plate_impact::fmi::plate::PlateModel;
 use plate_impact::fmi::variables::{vr, Causality, Kind};
 use plate_impact::scene::{ImpactLaw, Scene};
 use plate_impact::scheme::{StepPath, StepReport, Stepper};
+use plate_impact_studies::cli::{exit_code, positive_integer, set_override};
+use plate_impact_studies::element::element_name;
+use plate_impact_studies::output::StudyDir;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::io::Write;

@@ -3,13 +3,13 @@
 //! elements, several meshes each, and Δt from the paper's 1e-3 s down to ω_max·Δt ≤ 1, where ω_max
 //! is the highest natural angular frequency of the mesh (the library's, `src/modes.rs`).
 //!
-//! `cargo run --release --example statistics [-- --quick | --reduced] [--out DIR]`
+//! `cargo run --release -p plate_impact_studies --bin statistics [-- --quick | --reduced] [--out DIR]`
 //!
-//! The study in three steps: the plan (`statistics/plan.rs`: which runs, one entry per simulation),
-//! the run (`statistics/run.rs`: the simulations, each appended to the CSV as it ends) and the
+//! The study in three steps: the plan (`plan.rs`: which runs, one entry per simulation),
+//! the run (`run.rs`: the simulations, each appended to the CSV as it ends) and the
 //! write (the study's module of `plateimpact_tools.studies` in `tools/`, run with the Python of
 //! `scripts/python-env`, which reads the CSVs and writes the tables and plots). The command line
-//! (`statistics/options.rs`) chooses and narrows the plan.
+//! (`options.rs`) chooses and narrows the plan.
 //!
 //! `--study damping` runs the damping study instead ([`plan::damping_plan`]): the undamped
 //! forcings with each damping model of [`plan::damping_models`] (`--damping LABEL,LABEL` keeps
@@ -78,19 +78,17 @@
 //! have converged once ω_max·Δt < 1 and the mean |base force| has not at the paper's Δt (see
 //! [`quick_check`]).
 
-#[path = "../common/mod.rs"]
-mod common;
-#[path = "statistics/options.rs"]
 mod options;
-#[path = "statistics/plan.rs"]
 mod plan;
-#[path = "statistics/run.rs"]
 mod run;
 
-use common::{element_name, exit_code, source_revision, StudyDir};
 use options::{Options, Study};
 use plan::{Plan, SceneKind, ZETA1};
 use plate_impact::element::ElementKind;
+use plate_impact_studies::cli::exit_code;
+use plate_impact_studies::element::element_name;
+use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::revision::source_revision;
 use run::{Context, Stat};
 use std::fmt::Write as _;
 use std::process::ExitCode;
