@@ -5,10 +5,13 @@
 
 use std::path::Path;
 
+pub mod autocorrelation;
 pub mod cli;
 pub mod element;
+pub mod order;
 pub mod output;
 pub mod revision;
+pub mod sample;
 
 /// The repository's root directory: the parent of this crate's.
 pub fn repository() -> &'static Path {

@@ -35,6 +35,7 @@ use plate_impact::element::ElementKind;
 use plate_impact::scene::QpChoice;
 use plate_impact_studies::cli::exit_code;
 use plate_impact_studies::element::element_name;
+use plate_impact_studies::order::observed_order;
 use plate_impact_studies::output::StudyDir;
 use plate_impact_studies::revision::source_revision;
 use run::{difference, Results};
@@ -178,7 +179,8 @@ fn order_check(results: &Results) -> Vec<String> {
                     (r.case.dt, difference(&r.trace, &other.trace).0)
                 })
                 .collect();
-            let order = slope(&points);
+            let (steps, errors): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+            let order = observed_order(&steps, &errors);
             eprintln!(
                 "{scene}: order in Δt, {} {}×{}: {order:.3} (RMS corner error, {} levels)",
                 element_name(element),
@@ -195,15 +197,4 @@ fn order_check(results: &Results) -> Vec<String> {
         }
     }
     failures
-}
-
-/// Least-squares slope of log(err) against log(x).
-fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|(x, y)| (x.ln(), y.ln())).unzip();
-    let mx = lx.iter().sum::<f64>() / n;
-    let my = ly.iter().sum::<f64>() / n;
-    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }

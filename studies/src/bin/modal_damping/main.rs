@@ -34,7 +34,7 @@
 //! - windows: the periods cut into K windows of the whole periods nearest `window` s (chosen
 //!   from the correlation times), the standard deviation of the K window values / √K;
 //! - correlation: √(τ σ² / P), σ² the variance of the per-period values and τ their integrated
-//!   autocorrelation time in periods ([`integrated_time`]);
+//!   autocorrelation time in periods (`plate_impact_studies::autocorrelation`);
 //! - replicas: R more runs of the same setting from initial states perturbed by
 //!   k·[`REPLICA_PERTURBATION`] on the first modal coordinate (k = 1 … R), restored into the same
 //!   stepper, the standard deviation of the R + 1 run values;
@@ -52,10 +52,12 @@ use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
+use plate_impact_studies::autocorrelation::correlation;
 use plate_impact_studies::cli::{exit_code, flag_value};
 use plate_impact_studies::element::{element_name, parse_mesh_cells};
 use plate_impact_studies::output::StudyDir;
 use plate_impact_studies::revision::source_revision;
+use plate_impact_studies::sample::mean_std;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -465,44 +467,6 @@ impl Quantity {
     }
 }
 
-/// Mean and sample standard deviation.
-fn mean_std(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
-    (mean, var.sqrt())
-}
-
-/// The integrated autocorrelation time τ = 1 + 2 Σ_{t=1}^{M} ρ(t) of a series (in its samples),
-/// with Sokal's window: the smallest M ≥ 5τ(M) (A. Sokal, *Monte Carlo methods in statistical
-/// mechanics*, 1997, §3), so that the variance of the mean of N samples is τσ²/N. ρ(t) is the
-/// autocovariance at lag t over the variance, each with the series' own mean. A series without
-/// variance (a periodic response) has τ = 1; a series too short for the window (M reaches N/4)
-/// returns the τ reached there, flagged `false`.
-fn integrated_time(xs: &[f64]) -> (f64, bool) {
-    let n = xs.len();
-    let mean = xs.iter().sum::<f64>() / n as f64;
-    let centred: Vec<f64> = xs.iter().map(|x| x - mean).collect();
-    let variance = centred.iter().map(|x| x * x).sum::<f64>() / n as f64;
-    if variance <= (1e-12 * mean.abs()).powi(2) || n < 8 {
-        return (1.0, variance == 0.0 || n >= 8);
-    }
-    let mut tau = 1.0;
-    for lag in 1..n / 4 {
-        let covariance = centred[..n - lag]
-            .iter()
-            .zip(&centred[lag..])
-            .map(|(a, b)| a * b)
-            .sum::<f64>()
-            / n as f64;
-        tau += 2.0 * covariance / variance;
-        if lag as f64 >= 5.0 * tau {
-            return (tau.max(1.0 / n as f64), true);
-        }
-    }
-    (tau.max(1.0 / n as f64), false)
-}
-
 /// The statistics of one quantity of a setting.
 struct Estimate {
     value: f64,
@@ -539,17 +503,7 @@ fn estimate(
         .iter()
         .map(|p| over(std::slice::from_ref(p)))
         .collect();
-    let finite = series.iter().all(|x| x.is_finite());
-    let (tau, tau_resolved) = if finite {
-        integrated_time(&series)
-    } else {
-        (f64::NAN, false)
-    };
-    let correlation_spread = if finite {
-        (tau * mean_std(&series).1.powi(2) / series.len() as f64).sqrt()
-    } else {
-        f64::NAN
-    };
+    let correlation = correlation(&series);
     let windows = steady.len() / window_periods;
     let window_values: Vec<f64> = (0..windows)
         .map(|j| over(&steady[j * window_periods..(j + 1) * window_periods]))
@@ -568,10 +522,10 @@ fn estimate(
     Estimate {
         value,
         window_spread,
-        correlation_spread,
+        correlation_spread: correlation.spread,
         replica_spread,
-        tau_periods: tau,
-        tau_resolved,
+        tau_periods: correlation.tau,
+        tau_resolved: correlation.resolved,
         windows,
     }
 }

@@ -30,6 +30,7 @@ use plate_impact::scene::{ImpactLaw, Scene};
 use plate_impact::scheme::{StepPath, StepReport, Stepper};
 use plate_impact_studies::cli::{exit_code, positive_integer, set_override};
 use plate_impact_studies::element::element_name;
+use plate_impact_studies::order::observed_order;
 use plate_impact_studies::output::StudyDir;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -773,23 +774,6 @@ fn corner_errors(run: &Trajectory, reference: &Trajectory) -> [f64; 4] {
         until(HORIZONS[1]),
         until(HORIZONS[2]),
     ]
-}
-
-/// Least-squares slope of log(error) against log(x): the observed order.
-fn observed_order(x: &[f64], errors: &[f64]) -> f64 {
-    let points: Vec<(f64, f64)> = x
-        .iter()
-        .zip(errors)
-        .filter(|(_, e)| **e > 0.0)
-        .map(|(x, e)| (x.ln(), e.ln()))
-        .collect();
-    let n = points.len() as f64;
-    let (mx, my) = points
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-    let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = points.iter().map(|(x, _)| (x - mx).powi(2)).sum();
-    sxy / sxx
 }
 
 /// One convergence run: its series, element, mesh and Δt.

@@ -7,6 +7,7 @@ use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
 use plate_impact_studies::element::element_name;
+use plate_impact_studies::sample::mean_std;
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -38,14 +39,6 @@ pub struct Outcome {
     pub stats: Vec<Stat>,
     pub wall_s: f64,
     pub zeta_hf: f64,
-}
-
-/// Mean and sample standard deviation.
-pub fn mean_std(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
-    (mean, var.sqrt())
 }
 
 /// What one window of a forced run accumulates.
