@@ -10,8 +10,10 @@ pub mod cli;
 pub mod element;
 pub mod order;
 pub mod output;
+pub mod recorder;
 pub mod revision;
 pub mod sample;
+pub mod windows;
 
 /// The repository's root directory: the parent of this crate's.
 pub fn repository() -> &'static Path {

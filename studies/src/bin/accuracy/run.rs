@@ -8,6 +8,7 @@ use plate_impact::scene::QpChoice;
 use plate_impact::scheme::{StepPath, Stepper};
 use plate_impact::system::PlateSystem;
 use plate_impact_studies::element::element_name;
+use plate_impact_studies::recorder::stride;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -41,11 +42,7 @@ pub fn run(case: Case, horizon: f64) -> Result<Run, String> {
         Stepper::new(&s, base_motion(case.scene, &s, 0.0)).map_err(|e| e.to_string())?;
     let setup_s = t0.elapsed().as_secs_f64();
     // Sample every `stride` steps (Δt ≤ GRID) or every step (Δt > GRID, interpolated below).
-    let stride = if case.dt < GRID {
-        (GRID / case.dt).round() as usize
-    } else {
-        1
-    };
+    let stride = stride(GRID, case.dt);
     let mut samples = vec![stepper.outputs().corner1];
     let mut qp_steps = 0;
     let (mut impacts, mut in_contact, mut first_contact) = (0, false, None);

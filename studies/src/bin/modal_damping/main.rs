@@ -56,14 +56,13 @@ use plate_impact_studies::autocorrelation::correlation;
 use plate_impact_studies::cli::{exit_code, flag_value};
 use plate_impact_studies::element::{element_name, parse_mesh_cells};
 use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::recorder::{stride, Recorder, Tally, Windows, SAMPLE_INTERVAL};
 use plate_impact_studies::revision::source_revision;
 use plate_impact_studies::sample::mean_std;
+use plate_impact_studies::windows::{window_spread, window_values, Quantity};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 use std::time::Instant;
-
-/// Outputs (corner, energy) are sampled at this interval, or every step when Δt is larger (s).
-const SAMPLE_INTERVAL: f64 = 1e-5;
 
 /// The modal energies are sampled at this interval, or every step when Δt is larger (s): 286
 /// samples per period at 35 Hz, out of phase with the forcing.
@@ -244,20 +243,35 @@ impl MeshModes {
     }
 }
 
-/// What one forcing period of a run accumulates.
-#[derive(Clone, Debug, Default)]
+/// What one forcing period of a run accumulates: the recorder's tally, and the energy of each
+/// band of modes summed over the modal samples.
+#[derive(Clone, Debug)]
 struct Period {
-    steps: usize,
-    impacts: usize,
-    contact_loss: f64,
-    force_abs: f64,
-    force_squared: f64,
-    samples: usize,
-    energy: f64,
-    corner_squared: f64,
-    corner_peak: f64,
+    tally: Tally,
     modal_samples: usize,
     bands: [f64; BAND_EDGES_HZ.len()],
+}
+
+impl Period {
+    fn new() -> Period {
+        Period {
+            tally: Tally::spanning(1),
+            modal_samples: 0,
+            bands: [0.0; BAND_EDGES_HZ.len()],
+        }
+    }
+}
+
+impl AsRef<Tally> for Period {
+    fn as_ref(&self) -> &Tally {
+        &self.tally
+    }
+}
+
+impl AsMut<Tally> for Period {
+    fn as_mut(&mut self) -> &mut Tally {
+        &mut self.tally
+    }
 }
 
 /// One run: its periods from t = 0, its steps, wall and CPU time.
@@ -292,11 +306,6 @@ fn cpu_seconds() -> f64 {
     }
 }
 
-/// Every `interval` (s), in steps of `dt`: at least 1.
-fn stride(interval: f64, dt: f64) -> usize {
-    ((interval / dt).round() as usize).max(1)
-}
-
 /// Adds the energy of each mode between the state's two levels to its band.
 fn add_modal_energy(
     modes: &MeshModes,
@@ -327,57 +336,48 @@ fn run(
     let f = setting.forcing.frequency;
     let periods = (total_s * f).round() as usize;
     let steps = (periods as f64 / f / dt).round() as usize;
-    let (sample, modal_sample) = (
-        stride(SAMPLE_INTERVAL, dt),
-        stride(MODAL_SAMPLE_INTERVAL, dt),
-    );
-    let mut record = vec![Period::default(); periods];
-    let scene = stepper.scene().clone();
+    let recorder = Recorder {
+        windows: Windows::Periods {
+            dt,
+            frequency: f,
+            count: periods,
+        },
+        steps,
+        stride: stride(SAMPLE_INTERVAL, dt),
+    };
+    let modal_sample = stride(MODAL_SAMPLE_INTERVAL, dt);
+    let mut record = vec![Period::new(); periods];
     let started = Instant::now();
     let cpu_started = cpu_seconds();
     let mut checked = false;
-    for n in 1..=steps {
-        let report = stepper
-            .step(scene.builtin_base(n as f64 * dt))
-            .map_err(|e| format!("{} step {n}: {e}", setting.forcing.label))?;
-        let p = (((n as f64 - 0.5) * dt * f) as usize).min(periods - 1);
-        let period = &mut record[p];
-        period.steps += 1;
-        period.impacts += usize::from(report.impact);
-        period.contact_loss += report.flows.contact_loss;
-        period.force_abs += report.base_force.abs();
-        period.force_squared += report.base_force * report.base_force;
-        if n % sample == 0 {
-            let o = stepper.outputs();
-            period.samples += 1;
-            period.energy += o.energy_total;
-            period.corner_squared += o.corner1 * o.corner1;
-            period.corner_peak = period.corner_peak.max(o.corner1.abs());
+    let label = setting.forcing.label;
+    recorder.run(stepper, label, &mut record, |n, stepper, period| {
+        if n % modal_sample != 0 {
+            return Ok(());
         }
-        if n % modal_sample == 0 {
-            let state = stepper.state();
-            let elastic = add_modal_energy(
-                modes,
-                &state.previous,
-                &state.current,
-                dt,
-                &mut period.bands,
-            );
-            period.modal_samples += 1;
-            if !checked {
-                // The state's levels are w_{n−1}, w_n; the outputs' elastic energy is that of the
-                // same pair.
-                let reported = stepper.outputs().energy_elastic;
-                if (elastic - reported).abs() > MODAL_ENERGY_TOLERANCE * reported.abs().max(1e-12) {
-                    return Err(format!(
-                        "modal elastic energy {elastic:e} J against energy.elastic {reported:e} J: \
-                         the state's coordinates are not those of the eigenbasis"
-                    ));
-                }
-                checked = elastic > 0.0;
+        let state = stepper.state();
+        let elastic = add_modal_energy(
+            modes,
+            &state.previous,
+            &state.current,
+            dt,
+            &mut period.bands,
+        );
+        period.modal_samples += 1;
+        if !checked {
+            // The state's levels are w_{n−1}, w_n; the outputs' elastic energy is that of the
+            // same pair.
+            let reported = stepper.outputs().energy_elastic;
+            if (elastic - reported).abs() > MODAL_ENERGY_TOLERANCE * reported.abs().max(1e-12) {
+                return Err(format!(
+                    "modal elastic energy {elastic:e} J against energy.elastic {reported:e} J: \
+                     the state's coordinates are not those of the eigenbasis"
+                ));
             }
+            checked = elastic > 0.0;
         }
-    }
+        Ok(())
+    })?;
     Ok(Run {
         periods: record,
         steps,
@@ -386,86 +386,34 @@ fn run(
     })
 }
 
-/// A statistic read from the periods: g(Σ numerator / Σ denominator) over any set of periods, g
-/// the square root for an RMS, the identity otherwise.
-struct Quantity {
-    name: &'static str,
-    numerator: fn(&Period) -> f64,
-    denominator: fn(&Period) -> f64,
-    root: bool,
-}
-
 /// Index of the first band at or above 1 kHz in [`BAND_EDGES_HZ`].
 const BAND_1KHZ: usize = 3;
 
 /// Index of the first band at or above 10 kHz in [`BAND_EDGES_HZ`].
 const BAND_10KHZ: usize = 5;
 
-/// The statistics of a run, with the damping study's names.
-const QUANTITIES: [Quantity; 8] = [
-    Quantity {
-        name: "mean_energy_J",
-        numerator: |p| p.energy,
-        denominator: |p| p.samples as f64,
-        root: false,
-    },
-    Quantity {
-        name: "rms_corner_m",
-        numerator: |p| p.corner_squared,
-        denominator: |p| p.samples as f64,
-        root: true,
-    },
-    Quantity {
-        name: "mean_abs_base_force_N",
-        numerator: |p| p.force_abs,
-        denominator: |p| p.steps as f64,
-        root: false,
-    },
-    Quantity {
-        name: "rms_base_force_N",
-        numerator: |p| p.force_squared,
-        denominator: |p| p.steps as f64,
-        root: true,
-    },
-    Quantity {
-        name: "impacts_per_period",
-        numerator: |p| p.impacts as f64,
-        denominator: |_| 1.0,
-        root: false,
-    },
-    Quantity {
-        name: "contact_loss_per_period_J",
-        numerator: |p| p.contact_loss,
-        denominator: |_| 1.0,
-        root: false,
-    },
-    Quantity {
-        name: "modal_share_above_1khz",
-        numerator: |p| p.bands[BAND_1KHZ..].iter().sum(),
-        denominator: |p| p.bands.iter().sum(),
-        root: false,
-    },
-    Quantity {
-        name: "modal_share_above_10khz",
-        numerator: |p| p.bands[BAND_10KHZ..].iter().sum(),
-        denominator: |p| p.bands.iter().sum(),
-        root: false,
-    },
+/// The statistics of a run, with the damping study's names: the recorder's time averages, then
+/// the share of the modal energy above 1 and 10 kHz.
+const QUANTITIES: [Quantity<Period>; 8] = [
+    Quantity::MEAN_ENERGY,
+    Quantity::RMS_CORNER,
+    Quantity::MEAN_ABS_BASE_FORCE,
+    Quantity::RMS_BASE_FORCE,
+    Quantity::IMPACTS_PER_PERIOD,
+    Quantity::CONTACT_LOSS_PER_PERIOD,
+    Quantity::new(
+        "modal_share_above_1khz",
+        |p| p.bands[BAND_1KHZ..].iter().sum(),
+        |p| p.bands.iter().sum(),
+        false,
+    ),
+    Quantity::new(
+        "modal_share_above_10khz",
+        |p| p.bands[BAND_10KHZ..].iter().sum(),
+        |p| p.bands.iter().sum(),
+        false,
+    ),
 ];
-
-impl Quantity {
-    /// The statistic over `periods`.
-    fn over(&self, periods: &[Period]) -> f64 {
-        let num: f64 = periods.iter().map(self.numerator).sum();
-        let den: f64 = periods.iter().map(self.denominator).sum();
-        let ratio = num / den;
-        if self.root {
-            ratio.sqrt()
-        } else {
-            ratio
-        }
-    }
-}
 
 /// The statistics of one quantity of a setting.
 struct Estimate {
@@ -504,15 +452,7 @@ fn estimate(
         .map(|p| over(std::slice::from_ref(p)))
         .collect();
     let correlation = correlation(&series);
-    let windows = steady.len() / window_periods;
-    let window_values: Vec<f64> = (0..windows)
-        .map(|j| over(&steady[j * window_periods..(j + 1) * window_periods]))
-        .collect();
-    let window_spread = if windows >= 2 {
-        mean_std(&window_values).1 / (windows as f64).sqrt()
-    } else {
-        f64::NAN
-    };
+    let window_values = window_values(steady, window_periods, over);
     let replica_spread = if runs.len() >= 2 {
         let values: Vec<f64> = runs.iter().map(|r| over(r)).collect();
         mean_std(&values).1
@@ -521,12 +461,12 @@ fn estimate(
     };
     Estimate {
         value,
-        window_spread,
+        window_spread: window_spread(&window_values),
         correlation_spread: correlation.spread,
         replica_spread,
         tau_periods: correlation.tau,
         tau_resolved: correlation.resolved,
-        windows,
+        windows: window_values.len(),
     }
 }
 
@@ -999,8 +939,8 @@ impl Tables {
                         v(0),
                         v(1),
                         v(2),
-                        p.impacts,
-                        p.contact_loss,
+                        p.tally.impacts,
+                        p.tally.contact_loss,
                         v(6),
                     )
                     .expect("write to string");

@@ -32,6 +32,9 @@ use plate_impact_studies::cli::{exit_code, positive_integer, set_override};
 use plate_impact_studies::element::element_name;
 use plate_impact_studies::order::observed_order;
 use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::recorder::{stride, Recorder, Tally, Windows};
+use plate_impact_studies::sample::mean_variance;
+use plate_impact_studies::windows::{window_spread, Quantity};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::io::Write;
@@ -609,33 +612,27 @@ fn undamped_scenes(quick: bool) -> Result<String, String> {
     Ok(csv)
 }
 
-/// The statistics of one forced run over one window of time, summed step by step.
-#[derive(Clone, Copy, Default)]
-struct Window {
-    steps: u64,
-    corner_squared: f64,
-    corner_peak: f64,
-    impacts: u64,
-    contact_loss: f64,
-    energy: f64,
-    base_force: f64,
+/// The statistics of a forced run read from each window, in the order of [`WINDOW_QUANTITIES`]:
+/// RMS and peak |u| of the free corner (m), impacts, energy removed at the obstacles (J), mean
+/// `energy.total` (J) and mean |`base.force`| (N). Every step of a window is sampled.
+fn window_values(w: &Tally) -> [f64; 6] {
+    let one = std::slice::from_ref(w);
+    [
+        Quantity::RMS_CORNER.over(one),
+        w.corner_peak,
+        IMPACTS.over(one),
+        CONTACT_LOSS.over(one),
+        Quantity::MEAN_ENERGY.over(one),
+        Quantity::MEAN_ABS_BASE_FORCE.over(one),
+    ]
 }
 
-impl Window {
-    /// The window's statistics: RMS and peak |u| of the free corner (m), impacts, energy removed
-    /// at the obstacles (J), mean `energy.total` (J) and mean |`base.force`| (N).
-    fn values(&self) -> [f64; 6] {
-        let n = self.steps.max(1) as f64;
-        [
-            (self.corner_squared / n).sqrt(),
-            self.corner_peak,
-            self.impacts as f64,
-            self.contact_loss,
-            self.energy / n,
-            self.base_force / n,
-        ]
-    }
-}
+/// The impacts of a window.
+const IMPACTS: Quantity<Tally> = Quantity::new("impacts", |t| t.impacts as f64, |_| 1.0, false);
+
+/// The energy removed at the obstacles in a window (J).
+const CONTACT_LOSS: Quantity<Tally> =
+    Quantity::new("contact_loss_J", |t| t.contact_loss, |_| 1.0, false);
 
 const WINDOW_QUANTITIES: [&str; 6] = [
     "rms_corner_m",
@@ -648,32 +645,20 @@ const WINDOW_QUANTITIES: [&str; 6] = [
 
 /// The windows of `scene` after a transient of `transient` s: consecutive windows of `length` s
 /// up to the stop time.
-fn windows(scene: &Scene, transient: f64, length: f64) -> Result<Vec<Window>, String> {
+fn windows(scene: &Scene, transient: f64, length: f64) -> Result<Vec<Tally>, String> {
     let dt = scene.solver.time_step;
-    let per_window = (length / dt).round() as u64;
-    let skip = (transient / dt).round() as u64;
-    let steps = (scene.stop_time / dt).round() as u64;
+    let per_window = (length / dt).round() as usize;
+    let skip = (transient / dt).round() as usize;
+    let steps = (scene.stop_time / dt).round() as usize;
+    let count = (steps - skip) / per_window;
+    let recorder = Recorder {
+        windows: Windows::Bounds((0..=count).map(|j| skip + j * per_window).collect()),
+        steps,
+        stride: 1,
+    };
     let mut stepper = Stepper::new(scene, scene.builtin_base(0.0)).map_err(|e| e.to_string())?;
-    let mut out = vec![Window::default(); ((steps - skip) / per_window) as usize];
-    for n in 1..=steps {
-        let report = stepper
-            .step(scene.builtin_base(n as f64 * dt))
-            .map_err(|e| e.to_string())?;
-        let Some(w) = n
-            .checked_sub(skip + 1)
-            .and_then(|k| out.get_mut((k / per_window) as usize))
-        else {
-            continue;
-        };
-        let o = stepper.outputs();
-        w.steps += 1;
-        w.corner_squared += o.corner1 * o.corner1;
-        w.corner_peak = w.corner_peak.max(o.corner1.abs());
-        w.impacts += u64::from(report.impact);
-        w.contact_loss += report.flows.contact_loss;
-        w.energy += o.energy_total;
-        w.base_force += report.base_force.abs();
-    }
+    let mut out = vec![Tally::default(); count];
+    recorder.run(&mut stepper, "forced", &mut out, |_, _, _| Ok(()))?;
     Ok(out)
 }
 
@@ -693,14 +678,12 @@ fn forced_statistics(quick: bool) -> Result<String, String> {
             scene.stop_time = transient + length * f64::from(count);
             let values: Vec<[f64; 6]> = windows(&scene, transient, length)?
                 .iter()
-                .map(Window::values)
+                .map(window_values)
                 .collect();
-            let k = values.len() as f64;
             for (q, quantity) in WINDOW_QUANTITIES.iter().enumerate() {
                 let xs: Vec<f64> = values.iter().map(|v| v[q]).collect();
-                let mean = xs.iter().sum::<f64>() / k;
-                let variance = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k - 1.0);
-                let spread = (variance / k).sqrt();
+                let (mean, _) = mean_variance(&xs);
+                let spread = window_spread(&xs);
                 println!(
                     "{name}, {}, e = 1: {quantity} {mean:.4e} ± {spread:.1e}",
                     law_name(law)
@@ -733,7 +716,7 @@ struct Trajectory {
 const SAMPLE: f64 = 1e-4;
 
 fn trajectory(scene: &Scene) -> Result<Trajectory, String> {
-    let every = (SAMPLE / scene.solver.time_step).round() as u64;
+    let every = stride(SAMPLE, scene.solver.time_step) as u64;
     let (mut corner, mut first_contact) = (Vec::new(), f64::INFINITY);
     let (w, summary) = watch(scene, |n, stepper| {
         if stepper.active_count() > 0 {

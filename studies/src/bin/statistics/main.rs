@@ -88,6 +88,7 @@ use plate_impact::element::ElementKind;
 use plate_impact_studies::cli::exit_code;
 use plate_impact_studies::element::element_name;
 use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::recorder::SAMPLE_INTERVAL;
 use plate_impact_studies::revision::source_revision;
 use run::{Context, Stat};
 use std::fmt::Write as _;
@@ -322,7 +323,7 @@ fn meta(
             "forced_perturbation_pa",
             run::FORCED_PERTURBATION_PA.to_string(),
         ),
-        ("sample_interval_s", run::SAMPLE_INTERVAL.to_string()),
+        ("sample_interval_s", SAMPLE_INTERVAL.to_string()),
         ("overrides", options.overrides.join(" ")),
     ] {
         writeln!(meta, "{k},{}", csv_field(&v)).expect("write to string");
