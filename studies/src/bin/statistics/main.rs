@@ -29,7 +29,7 @@
 //! those meshes only and `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them,
 //! whatever the damping model's smallest Δt), `--windows K` K ≥ 2 windows instead of the plan's (a
 //! cheaper run of a periodic steady state). Trailing `name=value` arguments set scene parameters
-//! (the FMU variable names, [`Scene::set`]) of every run, after the study's own settings:
+//! (the FMU variable names, [`Scene::set`](plate_impact::scene::Scene::set)) of every run, after the study's own settings:
 //! `damping.stiffness_proportional=5.913e-5` or `damping.ratio=0.01 damping.frequency_low=53.8
 //! damping.frequency_high=5000` with `--forcings undamped` (the `-damped` forcings add their α
 //! first, which the Rayleigh pair refuses); they are recorded in `statistics_meta.csv`. A partial
