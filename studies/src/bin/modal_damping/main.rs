@@ -5,9 +5,10 @@
 //!
 //! `cargo run --release -p plate_impact_studies --bin modal_damping [-- --quick | --plan] [--out DIR] [selection]`
 //!
-//! Without a selection the committed plan runs ([`committed_plan`](plan::committed_plan), `--plan` lists its lines), then
-//! `python -m plateimpact_tools.studies.modal_damping_plots` writes the plots and the generated
-//! part of the page.
+//! Without a selection the committed plan runs ([`committed_plan`](plan::committed_plan), `--plan`
+//! lists its lines), then `python -m plateimpact_tools.studies.modal_damping_plots` writes the
+//! plots and the generated part of the page. The study in modules: the plan (`plan.rs`, narrowed by
+//! the command line of `options.rs`), the runs (`run.rs`) and the CSVs (`write.rs`).
 //! A selection runs a part of it, to share the study between processes (its CSVs are then
 //! concatenated and the plotting script run on the result): `--part middle,third,ratios,fine,finedt`,
 //! `--scenes LABEL,…` among [`SCENES`](plan::SCENES), `--zeta 0.005,0.01`, `--keep-mesh argyris:28x20,…` keep

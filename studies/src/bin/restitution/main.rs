@@ -19,6 +19,10 @@
 //!
 //! runs the study of docs/restitution/ and writes its CSVs there ([`study`]); `--quick` runs a
 //! small subset into a temporary directory to check the pipeline.
+//!
+//! The study in modules: its cases (`plan.rs`), the simulations (`run.rs`; `fmu.rs` through the
+//! FMU, `watch.rs` what a run observes) and the CSVs' headers and rows (`write.rs`); the single-run
+//! and timing modes are `single.rs`.
 
 mod fmu;
 mod plan;

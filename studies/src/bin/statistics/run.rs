@@ -6,11 +6,9 @@ use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
-use plate_impact_studies::element::element_name;
 use plate_impact_studies::recorder::{stride, Recorder, Tally, Windows, SAMPLE_INTERVAL};
 use plate_impact_studies::sample::mean_std;
 use plate_impact_studies::windows::{window_spread, window_values, Quantity};
-use std::fmt::Write as _;
 use std::time::Instant;
 
 /// Relative perturbation step of the preload between replicas of the `energy` scene.
@@ -267,72 +265,6 @@ pub fn mesh_modes(mesh: Mesh) -> Result<(f64, f64, usize), String> {
         w2.last().expect("modes").sqrt(),
         plate.free.len(),
     ))
-}
-
-/// The header of the study's CSV; with damping models (the damping study), a `damping` column
-/// after the scene's.
-pub fn header(with_damping: bool) -> &'static str {
-    if with_damping {
-        "quantity,scene,damping,element,nx,ny,dt,omega_max_dt,value,spread,wall_s,windows,zeta_hf,part\n"
-    } else {
-        "quantity,scene,element,nx,ny,dt,omega_max_dt,value,spread,wall_s,windows,zeta_hf,part\n"
-    }
-}
-
-/// One CSV row per statistic of `outcome`; `windows` is empty for the `energy` scene.
-pub fn rows(csv: &mut String, plan: &Plan, run: &Run, omega_max: f64, outcome: &Outcome) {
-    let scene = match plan.damping_of(run) {
-        Some(model) => format!("{},{}", run.scene.label(), model.label),
-        None if plan.dampings.is_empty() => run.scene.label().to_string(),
-        None => format!("{},", run.scene.label()),
-    };
-    let windows = match run.scene {
-        SceneKind::Forced(_) => run.windows.to_string(),
-        SceneKind::Energy => String::new(),
-    };
-    let m = run.mesh;
-    for s in &outcome.stats {
-        writeln!(
-            csv,
-            "{},{scene},{},{},{},{:e},{:.6e},{:.10e},{:.4e},{:.6},{windows},{:.6e},{}",
-            s.quantity,
-            element_name(m.element),
-            m.nx,
-            m.ny,
-            run.dt,
-            omega_max * run.dt,
-            s.value,
-            s.spread,
-            outcome.wall_s,
-            outcome.zeta_hf,
-            run.part.label()
-        )
-        .expect("write to string");
-    }
-}
-
-/// The rows of `replica_check.csv` for `run`: each statistic's window estimate of the spread
-/// against the replicas' standard deviation.
-pub fn replica_rows(csv: &mut String, run: &Run, stats: &[Vec<Stat>]) {
-    let m = run.mesh;
-    for (q, s) in stats[0].iter().enumerate() {
-        let values: Vec<f64> = stats.iter().map(|r| r[q].value).collect();
-        let (mean, std) = mean_std(&values);
-        writeln!(
-            csv,
-            "{},{},{},{},{:e},{},{:.10e},{:.4e},{mean:.10e},{std:.4e},{}",
-            run.scene.label(),
-            element_name(m.element),
-            m.nx,
-            m.ny,
-            run.dt,
-            s.quantity,
-            s.value,
-            s.spread,
-            stats.len()
-        )
-        .expect("write to string");
-    }
 }
 
 /// α = 2ζ₁ω₁ of the `-damped` forcings (1/s) and ω₁ (rad/s) of the paper's Argyris 10 × 7 mesh.
