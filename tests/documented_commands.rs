@@ -1,7 +1,8 @@
 //! Every command the documentation shows still names something that exists: each path under
-//! `examples/`, `scripts/`, `benches/` or `tools/` in README.md, docs/**/*.md, examples/**/*.md and
-//! the scripts, each `--example NAME` (a Cargo example target), each `--bench NAME` (a Cargo bench
-//! target) and each module of the Python package (`plateimpact_tools.converge`, as in
+//! `examples/`, `scripts/`, `benches/`, `tools/` or `studies/` in README.md, docs/**/*.md,
+//! examples/**/*.md, studies/**/*.md and the scripts, each `--example NAME` (a Cargo example
+//! target), each `--bench NAME` (a Cargo bench target), each `--bin NAME` (a binary of this package
+//! or of the studies' crate) and each module of the Python package (`plateimpact_tools.converge`, as in
 //! `python -m plateimpact_tools.converge`). Files move (examples/ was sorted by role, the Python
 //! tools moved into the package); this catches the reference left behind.
 
@@ -24,11 +25,13 @@ fn markdown_under(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The documents checked: README.md, the Markdown of docs/ and examples/, and the scripts.
+/// The documents checked: README.md, the Markdown of docs/, examples/ and studies/, and the
+/// scripts.
 fn documents() -> Vec<PathBuf> {
     let mut files = vec![root().join("README.md")];
     markdown_under(&root().join("docs"), &mut files);
     markdown_under(&root().join("examples"), &mut files);
+    markdown_under(&root().join("studies"), &mut files);
     for entry in std::fs::read_dir(root().join("scripts")).unwrap() {
         let path = entry.unwrap().path();
         if path.is_file() && path.extension().is_none() {
@@ -44,12 +47,12 @@ fn path_char(c: char) -> bool {
     c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '/')
 }
 
-/// The paths under `examples/`, `scripts/`, `benches/` and `tools/` in `text`, each as written: relative to
+/// The paths under `examples/`, `scripts/`, `benches/`, `tools/` and `studies/` in `text`, each as written: relative to
 /// the repository root, or starting with `../` (a Markdown link, relative to the document). A
 /// trailing `.` (end of a sentence) is not part of the path.
 fn mentioned_paths(text: &str) -> Vec<String> {
     let mut found = Vec::new();
-    for prefix in ["examples/", "scripts/", "benches/", "tools/"] {
+    for prefix in ["examples/", "scripts/", "benches/", "tools/", "studies/"] {
         for (at, _) in text.match_indices(prefix) {
             let mut start = at;
             while text[..start].ends_with("../") {
@@ -94,7 +97,7 @@ fn module_exists(name: &str) -> bool {
     path.with_extension("py").is_file() || path.join("__init__.py").is_file()
 }
 
-/// The names following `flag` (`--example`, `--bench`) in `text`.
+/// The names following `flag` (`--example`, `--bench`, `--bin`) in `text`.
 fn flag_values(text: &str, flag: &str) -> Vec<String> {
     text.match_indices(flag)
         .filter(|(at, _)| text[at + flag.len()..].starts_with(' '))
@@ -108,7 +111,7 @@ fn flag_values(text: &str, flag: &str) -> Vec<String> {
         .collect()
 }
 
-/// The targets of a kind (`example`, `bench`) that Cargo.toml declares with `[[kind]]`.
+/// The targets of a kind (`example`, `bench`, `bin`) that Cargo.toml declares with `[[kind]]`.
 fn declared_targets(kind: &str) -> BTreeSet<String> {
     let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
     let header = format!("[[{kind}]]");
@@ -156,13 +159,14 @@ fn documented_paths_and_targets_exist() {
                 broken.push(format!("{shown}: module {module}"));
             }
         }
-        for (flag, kind, dir) in [
-            ("--example", "example", "examples"),
-            ("--bench", "bench", "benches"),
+        for (flag, kind, dirs) in [
+            ("--example", "example", &["examples"][..]),
+            ("--bench", "bench", &["benches"][..]),
+            ("--bin", "bin", &["src/bin", "studies/src/bin"][..]),
         ] {
             for name in flag_values(&text, flag) {
                 checked += 1;
-                if !target_exists(kind, dir, &name) {
+                if !dirs.iter().any(|dir| target_exists(kind, dir, &name)) {
                     broken.push(format!("{shown}: {flag} {name}"));
                 }
             }
@@ -184,6 +188,7 @@ fn the_scan_finds_what_a_command_names() {
     let text = "run `cargo run --release --example scene -- x` and \
                 .venv/bin/python examples/shaker_coupling.py, see [here](../examples/c/plate_host.c). \
                 Not target/fmu/examples/x; `cargo bench --bench solver`; scripts/main-job; \
+                `cargo run -p plate_impact_studies --bin accuracy` (../studies/README.md); \
                 `python -m plateimpact_tools.studies.damping` (tools/pyproject.toml), each \
                 `plateimpact_tools.studies.NAME`, not my_plateimpact_tools.x; plateimpact_tools.converge.";
     assert_eq!(
@@ -192,7 +197,8 @@ fn the_scan_finds_what_a_command_names() {
             "examples/shaker_coupling.py",
             "../examples/c/plate_host.c",
             "scripts/main-job",
-            "tools/pyproject.toml"
+            "tools/pyproject.toml",
+            "../studies/README.md"
         ]
     );
     assert_eq!(
@@ -207,7 +213,10 @@ fn the_scan_finds_what_a_command_names() {
     assert!(!module_exists("plateimpact_tools.converge.nothing"));
     assert_eq!(flag_values(text, "--example"), ["scene"]);
     assert_eq!(flag_values(text, "--bench"), ["solver"]);
-    assert!(target_exists("example", "examples", "statistics"));
+    assert_eq!(flag_values(text, "--bin"), ["accuracy"]);
+    assert!(target_exists("bin", "studies/src/bin", "statistics"));
+    assert!(target_exists("bin", "src/bin", "package-fmu"));
+    assert!(!target_exists("example", "examples", "statistics"));
     assert!(target_exists("example", "examples", "scene"));
     assert!(!target_exists("example", "examples", "bench"));
     assert!(target_exists("bench", "benches", "paper_speed"));

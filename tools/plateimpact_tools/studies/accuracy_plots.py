@@ -1,11 +1,11 @@
 """The write step of the work-precision study: plots and the tables of README.md, from the CSVs of
-`examples/studies/accuracy.rs`.
+the `accuracy` binary of studies/ (`studies/src/bin/accuracy/`).
 
 Usage: python -m plateimpact_tools.studies.accuracy_plots DIR [--quick] [--tables-only]. Reads
 DIR/runs.csv, frequencies.csv, table1.csv, paper_table1.csv, traces.csv, reference_check.csv,
 meta.csv; writes DIR/*.png, beside each the CSV of the data it shows (traces.png shows
 traces.csv), and the generated tables of DIR/README.md (the page is hand-written; `pages.fill`).
-Run by `cargo run --release --example accuracy`.
+Run by `cargo run --release -p plate_impact_studies --bin accuracy`.
 """
 
 import csv

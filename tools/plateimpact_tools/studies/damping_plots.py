@@ -1,8 +1,9 @@
 """The write step of the damping study: plots and the tables of damping.md, from its CSVs.
 
 Usage: python -m plateimpact_tools.studies.damping_plots DIR [--quick] [--tables-only]. Reads
-DIR/damping.csv, damping_meshes.csv, damping_meta.csv (`cargo run --release --example statistics --
---study damping`, which runs this); writes DIR/damping_wp_<quantity>.png and
+DIR/damping.csv, damping_meshes.csv, damping_meta.csv
+(`cargo run --release -p plate_impact_studies --bin statistics -- --study damping`, which runs
+this); writes DIR/damping_wp_<quantity>.png and
 DIR/damping_contact_loss.png, beside each the CSV of the data it shows, and the generated tables
 of DIR/damping.md (the page is hand-written; `pages.fill`), and the rule's verdicts
 (`evidence`): DIR/damping_verdicts.csv (per scene, model, quantity and element) and

@@ -2,7 +2,8 @@
 
 Usage: python -m plateimpact_tools.studies.modal_damping_plots DIR [--tables-only]. Reads
 DIR/modal_damping.csv, modal_damping_bands.csv, modal_damping_meshes.csv, modal_damping_meta.csv
-and, when present, modal_damping_periods.csv (`cargo run --release --example modal_damping`);
+and, when present, modal_damping_periods.csv
+(`cargo run --release -p plate_impact_studies --bin modal_damping`);
 writes DIR/modal_damping_verdicts.csv (the rule's verdict on every scene, ratio, quantity and
 element, `plateimpact_tools.studies.evidence`), DIR/modal_damping_ladders.csv (the rule at every
 setting: its Δt and mesh ladders and what it said of each), the part of DIR/modal_damping.md between its

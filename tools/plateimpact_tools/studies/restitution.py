@@ -1,7 +1,8 @@
 """The restitution study of docs/restitution/: the default impact law in the `energy` scene.
 
 Runs the `energy` scene (fixed base, preload released above the lower obstacle g1 = -0.01 m,
-10 x 7 Argyris) through `cargo run --release --example restitution` and writes
+10 x 7 Argyris) through `cargo run --release -p plate_impact_studies --bin restitution` and
+writes
 
     docs/restitution/energy.png       E_{n+1/2} against t for several e (dt = 1e-4 s), and the energy
                                       kept at 1 s against e beside the former position-level law
@@ -50,7 +51,9 @@ def run(workdir, restitution, time_step=1e-4, law="auto", csv=True):
         "run",
         "--release",
         "--quiet",
-        "--example",
+        "-p",
+        "plate_impact_studies",
+        "--bin",
         "restitution",
         "--",
         "energy",

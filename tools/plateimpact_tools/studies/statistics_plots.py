@@ -1,10 +1,11 @@
 """The write step of the statistics study: plots and the tables of statistics.md, from the CSVs of
-`examples/studies/statistics.rs`.
+the `statistics` binary of studies/ (`studies/src/bin/statistics/`).
 
 Usage: python -m plateimpact_tools.studies.statistics_plots DIR [--quick] [--tables-only]. Reads
 DIR/statistics.csv, meshes.csv, replica_check.csv, statistics_meta.csv; writes DIR/statistics_*.png,
 beside each the CSV of the data it shows, and the generated tables of DIR/statistics.md (the page
-is hand-written; `pages.fill`). Run by `cargo run --release --example statistics`.
+is hand-written; `pages.fill`). Run by
+`cargo run --release -p plate_impact_studies --bin statistics`.
 
 Definitions used throughout (statistics.md repeats them):
 - two values a ± s_a and b ± s_b *agree* when |a − b| ≤ 2·√(s_a² + s_b²);

@@ -1,15 +1,15 @@
-//! Running the accuracy study: one simulation per case, its corner trace on the common grid,
-//! and the CSVs of the runs: every run with its errors (`runs.csv`), the natural frequencies, the
-//! reference traces, the reference's self-convergence check and the paper's Table 1 case.
+//! Running the accuracy study: one simulation per case and its corner trace on the common grid,
+//! the lookups its errors need, the natural frequencies of its meshes, the reference's check
+//! against a finer mesh, and the paper's Table 1 case.
 
-use super::plan::{base_motion, build_scene, strategy_name, Case, Plan, GRID, REFERENCE_HZ};
-use crate::common::element_name;
+use super::plan::{base_motion, build_scene, strategy_name, Case, Plan, GRID};
 use plate_impact::element::ElementKind;
 use plate_impact::scene::QpChoice;
 use plate_impact::scheme::{StepPath, Stepper};
 use plate_impact::system::PlateSystem;
+use plate_impact_studies::element::element_name;
+use plate_impact_studies::recorder::stride;
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 use std::time::Instant;
 
 /// What a run measured.
@@ -41,11 +41,7 @@ pub fn run(case: Case, horizon: f64) -> Result<Run, String> {
         Stepper::new(&s, base_motion(case.scene, &s, 0.0)).map_err(|e| e.to_string())?;
     let setup_s = t0.elapsed().as_secs_f64();
     // Sample every `stride` steps (Δt ≤ GRID) or every step (Δt > GRID, interpolated below).
-    let stride = if case.dt < GRID {
-        (GRID / case.dt).round() as usize
-    } else {
-        1
-    };
+    let stride = stride(GRID, case.dt);
     let mut samples = vec![stepper.outputs().corner1];
     let mut qp_steps = 0;
     let (mut impacts, mut in_contact, mut first_contact) = (0, false, None);
@@ -100,38 +96,6 @@ pub fn difference(a: &[f64], b: &[f64]) -> (f64, f64) {
         max = max.max((x - y).abs());
     }
     ((sum / a.len() as f64).sqrt(), max)
-}
-
-/// The natural frequencies of every mesh of the plan and the check mesh (`frequencies.csv`; one
-/// eigen-decomposition each, not timed as a run).
-pub fn frequencies_csv(plan: &Plan) -> Result<String, String> {
-    let mut csv = String::from("element,nx,ny,h,free_dofs,mode,frequency_hz,reference_hz\n");
-    for (element, meshes) in &plan.meshes {
-        let mut meshes = meshes.clone();
-        if *element == ElementKind::Argyris {
-            meshes.push(plan.check_mesh);
-        }
-        for mesh in meshes {
-            let s = build_scene("free", *element, mesh, 1e-4);
-            let plate = PlateSystem::new(&s).map_err(|e| e.to_string())?;
-            let modes = plate.modes().map_err(|e| e.to_string())?;
-            for (k, f) in modes.frequencies_hz().iter().take(6).enumerate() {
-                writeln!(
-                    csv,
-                    "{},{},{},{},{},{},{f},{}",
-                    element_name(*element),
-                    mesh.0,
-                    mesh.1,
-                    s.plate.length / mesh.0 as f64,
-                    plate.free.len(),
-                    k + 1,
-                    REFERENCE_HZ[k]
-                )
-                .expect("write to string");
-            }
-        }
-    }
-    Ok(csv)
 }
 
 /// Runs every case of the plan, one after the other.
@@ -210,95 +174,61 @@ impl Results<'_> {
         };
         self.fast(&case).expect("the reference ran")
     }
+}
 
-    /// `runs.csv`: every run with its errors against the reference (`ref_*`), the same mesh at
-    /// its smallest Δt (`dt_*`), the same element's finest mesh at the same Δt (`h_*`), its
-    /// energy error, the clarabel runs' difference from the fast ones, and the error up to the
-    /// reference's first contact (`pre_*`).
-    pub fn runs_csv(&self) -> String {
-        let mut csv = String::from(
-            "scene,element,nx,ny,h,free_dofs,dt,strategy,steps,qp_steps,impacts,setup_s,stepping_s,wall_s,\
-             ref_rms,ref_max,dt_rms,dt_max,h_rms,h_max,energy_end,energy_rel_err,diff_vs_fast,\
-             first_contact_s,pre_rms,pre_max\n",
-        );
-        for r in &self.runs {
-            let c = &r.case;
-            let rf = self.reference(c.scene);
-            let (ref_rms, ref_max) = difference(&r.trace, &rf.trace);
-            let dt_ref = self.min_dt(c.scene, c.element, c.mesh);
-            let dt_err = (c.dt != dt_ref).then(|| {
-                let other = self.fast(&Case { dt: dt_ref, ..*c }).expect("ran");
-                difference(&r.trace, &other.trace)
+/// The natural frequencies of a mesh.
+pub struct MeshFrequencies {
+    pub element: ElementKind,
+    pub mesh: (usize, usize),
+    /// The cell length Lx/nx (m).
+    pub h: f64,
+    pub free_dofs: usize,
+    /// The lowest six (Hz).
+    pub hz: Vec<f64>,
+}
+
+/// The natural frequencies of every mesh of the plan and the check mesh (one eigen-decomposition
+/// each, not timed as a run).
+pub fn frequencies(plan: &Plan) -> Result<Vec<MeshFrequencies>, String> {
+    let mut out = Vec::new();
+    for (element, meshes) in &plan.meshes {
+        let mut meshes = meshes.clone();
+        if *element == ElementKind::Argyris {
+            meshes.push(plan.check_mesh);
+        }
+        for mesh in meshes {
+            let s = build_scene("free", *element, mesh, 1e-4);
+            let plate = PlateSystem::new(&s).map_err(|e| e.to_string())?;
+            let modes = plate.modes().map_err(|e| e.to_string())?;
+            out.push(MeshFrequencies {
+                element: *element,
+                mesh,
+                h: s.plate.length / mesh.0 as f64,
+                free_dofs: plate.free.len(),
+                hz: modes.frequencies_hz().iter().take(6).copied().collect(),
             });
-            let fine = self.plan.finest(c.element);
-            let h_err = (c.mesh != fine)
-                .then(|| self.fast(&Case { mesh: fine, ..*c }))
-                .flatten()
-                .map(|other| difference(&r.trace, &other.trace));
-            // Before the reference's first contact: the error of the motion up to the first impact.
-            let pre = rf.first_contact.map(|t| {
-                let k = (t / GRID).floor() as usize + 1;
-                difference(&r.trace[..k], &rf.trace[..k])
-            });
-            let diff_vs_fast = (c.qp == QpChoice::Clarabel)
-                .then(|| difference(&r.trace, &self.fast(c).expect("ran").trace).1);
-            writeln!(
-                csv,
-                "{},{},{},{},{},{},{:e},{},{},{},{},{:.6},{:.6},{:.6},{ref_rms:e},{ref_max:e},{},{},{},{},{:e},{:e},{},{},{},{}",
-                c.scene,
-                element_name(c.element),
-                c.mesh.0,
-                c.mesh.1,
-                0.4 / c.mesh.0 as f64,
-                r.free_dofs,
-                c.dt,
-                strategy_name(c.qp),
-                r.steps,
-                r.qp_steps,
-                r.impacts,
-                r.setup_s,
-                r.stepping_s,
-                r.setup_s + r.stepping_s,
-                optional(dt_err.map(|e| e.0)),
-                optional(dt_err.map(|e| e.1)),
-                optional(h_err.map(|e| e.0)),
-                optional(h_err.map(|e| e.1)),
-                r.energy_end,
-                ((r.energy_end - rf.energy_end) / rf.energy_end).abs(),
-                optional(diff_vs_fast),
-                optional(r.first_contact),
-                optional(pre.map(|e| e.0)),
-                optional(pre.map(|e| e.1)),
-            )
-            .expect("write to string");
         }
-        csv
     }
+    Ok(out)
+}
 
-    /// `traces.csv`: the reference corner trajectories on the common grid.
-    pub fn traces_csv(&self) -> String {
-        let mut traces = String::from("t");
-        for &scene in &self.plan.scenes {
-            write!(traces, ",{scene}").expect("write to string");
-        }
-        traces.push('\n');
-        for k in 0..self.reference(self.plan.scenes[0]).trace.len() {
-            write!(traces, "{}", k as f64 * GRID).expect("write to string");
-            for &scene in &self.plan.scenes {
-                write!(traces, ",{:e}", self.reference(scene).trace[k]).expect("write to string");
-            }
-            traces.push('\n');
-        }
-        traces
-    }
+/// The check of a scene's reference: its time error (against the next larger Δt on its mesh),
+/// its space error (against the finer check mesh at the same Δt, run here) and its difference
+/// from the other element's finest mesh, each as (RMS, max) of the corner traces' difference.
+pub struct ReferenceCheck {
+    pub scene: &'static str,
+    /// Wall time of the check mesh's run (s).
+    pub wall: f64,
+    /// The next larger Δt and the difference from its run.
+    pub time: Option<(f64, (f64, f64))>,
+    pub space: (f64, f64),
+    pub fvs: Option<(f64, f64)>,
+}
 
-    /// `reference_check.csv`: the reference's time error (against the next larger Δt on its
-    /// mesh), its space error (against the finer check mesh at the same Δt, run here) and the
-    /// other element's finest mesh, per scene.
-    pub fn reference_check_csv(&self) -> Result<String, String> {
-        let mut check = String::from(
-            "scene,check_wall_s,time_dt,time_rms,time_max,space_rms,space_max,fvs_rms,fvs_max\n",
-        );
+impl Results<'_> {
+    /// The check of every scene's reference.
+    pub fn reference_checks(&self) -> Result<Vec<ReferenceCheck>, String> {
+        let mut checks = Vec::new();
         for &scene in &self.plan.scenes {
             let rf = self.reference(scene);
             let c = rf.case;
@@ -327,32 +257,34 @@ impl Results<'_> {
                     ..c
                 })
                 .map(|r| difference(&rf.trace, &r.trace));
-            writeln!(
-                check,
-                "{scene},{wall:.6},{},{},{},{:e},{:e},{},{}",
-                optional(twice.map(|e| e.0)),
-                optional(twice.map(|e| e.1 .0)),
-                optional(twice.map(|e| e.1 .1)),
-                space.0,
-                space.1,
-                optional(other.map(|e| e.0)),
-                optional(other.map(|e| e.1)),
-            )
-            .expect("write to string");
+            checks.push(ReferenceCheck {
+                scene,
+                wall,
+                time: twice,
+                space,
+                fvs: other,
+            });
         }
-        Ok(check)
+        Ok(checks)
     }
 }
 
-/// A number in the CSV's `{:e}` form, or an empty cell.
-fn optional(x: Option<f64>) -> String {
-    x.map(|x| format!("{x:e}")).unwrap_or_default()
+/// A run of the paper's Table 1 case.
+pub struct Table1Run {
+    pub element: ElementKind,
+    pub mesh: (usize, usize),
+    pub dt: f64,
+    pub qp: QpChoice,
+    pub steps: usize,
+    pub qp_steps: usize,
+    /// Set-up and stepping (s).
+    pub wall: f64,
 }
 
-/// `table1.csv`: the paper's Table 1 case (140 elements, the `forced` scene at 10 Hz, 1 s) with
-/// the fast path and with clarabel on every step.
-pub fn table1_csv(plan: &Plan) -> Result<String, String> {
-    let mut table1 = String::from("element,nx,ny,dt,strategy,steps,qp_steps,wall_s\n");
+/// The paper's Table 1 case (140 elements, the `forced` scene at 10 Hz, 1 s) with the fast path
+/// and with clarabel on every step.
+pub fn table1(plan: &Plan) -> Result<Vec<Table1Run>, String> {
+    let mut runs = Vec::new();
     for (element, mesh) in plan.paper_mesh {
         let fast = plan.table1_fast.iter().map(|&dt| (dt, QpChoice::Auto));
         let clarabel = plan
@@ -374,13 +306,16 @@ pub fn table1_csv(plan: &Plan) -> Result<String, String> {
                 "table 1: {name} {}×{} Δt={dt:e} {strategy}: {wall:.3} s",
                 mesh.0, mesh.1
             );
-            writeln!(
-                table1,
-                "{name},{},{},{dt:e},{strategy},{},{},{wall:.6}",
-                mesh.0, mesh.1, r.steps, r.qp_steps
-            )
-            .expect("write to string");
+            runs.push(Table1Run {
+                element,
+                mesh,
+                dt,
+                qp,
+                steps: r.steps,
+                qp_steps: r.qp_steps,
+                wall,
+            });
         }
     }
-    Ok(table1)
+    Ok(runs)
 }

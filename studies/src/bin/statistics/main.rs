@@ -3,13 +3,13 @@
 //! elements, several meshes each, and Δt from the paper's 1e-3 s down to ω_max·Δt ≤ 1, where ω_max
 //! is the highest natural angular frequency of the mesh (the library's, `src/modes.rs`).
 //!
-//! `cargo run --release --example statistics [-- --quick | --reduced] [--out DIR]`
+//! `cargo run --release -p plate_impact_studies --bin statistics [-- --quick | --reduced] [--out DIR]`
 //!
-//! The study in three steps: the plan (`statistics/plan.rs`: which runs, one entry per simulation),
-//! the run (`statistics/run.rs`: the simulations, each appended to the CSV as it ends) and the
-//! write (the study's module of `plateimpact_tools.studies` in `tools/`, run with the Python of
-//! `scripts/python-env`, which reads the CSVs and writes the tables and plots). The command line
-//! (`statistics/options.rs`) chooses and narrows the plan.
+//! The study in three steps: the plan (`plan.rs`: which runs, one entry per simulation), the run
+//! (`run.rs`: the simulations, each appended to the CSV as it ends) and the write (`write.rs`: the
+//! CSVs' rows and the meta file; then the study's module of `plateimpact_tools.studies` in
+//! `tools/`, run with the Python of `scripts/python-env`, which reads the CSVs and writes the
+//! tables and plots). The command line (`options.rs`) chooses and narrows the plan.
 //!
 //! `--study damping` runs the damping study instead ([`plan::damping_plan`]): the undamped
 //! forcings with each damping model of [`plan::damping_models`] (`--damping LABEL,LABEL` keeps
@@ -29,7 +29,7 @@
 //! those meshes only and `--dt 1e-4,1e-5` those time steps only (every mesh runs every one of them,
 //! whatever the damping model's smallest Δt), `--windows K` K ≥ 2 windows instead of the plan's (a
 //! cheaper run of a periodic steady state). Trailing `name=value` arguments set scene parameters
-//! (the FMU variable names, [`Scene::set`]) of every run, after the study's own settings:
+//! (the FMU variable names, [`Scene::set`](plate_impact::scene::Scene::set)) of every run, after the study's own settings:
 //! `damping.stiffness_proportional=5.913e-5` or `damping.ratio=0.01 damping.frequency_low=53.8
 //! damping.frequency_high=5000` with `--forcings undamped` (the `-damped` forcings add their α
 //! first, which the Rayleigh pair refuses); they are recorded in `statistics_meta.csv`. A partial
@@ -78,21 +78,19 @@
 //! have converged once ω_max·Δt < 1 and the mean |base force| has not at the paper's Δt (see
 //! [`quick_check`]).
 
-#[path = "../common/mod.rs"]
-mod common;
-#[path = "statistics/options.rs"]
 mod options;
-#[path = "statistics/plan.rs"]
 mod plan;
-#[path = "statistics/run.rs"]
 mod run;
+mod write;
 
-use common::{element_name, exit_code, source_revision, StudyDir};
 use options::{Options, Study};
-use plan::{Plan, SceneKind, ZETA1};
+use plan::SceneKind;
 use plate_impact::element::ElementKind;
+use plate_impact_studies::cli::exit_code;
+use plate_impact_studies::element::element_name;
+use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::revision::source_revision;
 use run::{Context, Stat};
-use std::fmt::Write as _;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -110,7 +108,7 @@ fn study() -> Result<(), String> {
     let (alpha, omega1) = run::reference_damping()?;
     let plan = options.plan(omega1)?;
     if args.iter().any(|a| a == "--plan") {
-        print_plan(&plan);
+        plan::print_plan(&plan);
         return Ok(());
     }
     let files = Files(options.study == Study::Damping);
@@ -121,7 +119,7 @@ fn study() -> Result<(), String> {
     };
     let quick_values = run_plan(&context, &dir, &files, started)?;
     let total_s = started.elapsed().as_secs_f64();
-    let meta = meta(&plan, &options, &args, &revision, alpha, omega1, total_s);
+    let meta = write::meta(&plan, &options, &args, &revision, alpha, omega1, total_s);
     dir.write(&files.name("statistics_meta.csv"), &meta)?;
     if options.partial() {
         eprintln!(
@@ -209,27 +207,21 @@ fn run_plan(
     started: Instant,
 ) -> Result<QuickValues, String> {
     let plan = context.plan;
-    let mut meshes_csv = String::from("element,nx,ny,free_dofs,omega1_rad_s,omega_max_rad_s\n");
+    let mut meshes_csv = String::from(write::MESHES_HEADER);
     let mut omega_max = Vec::new();
     let meshes = plan.meshes();
     for &m in &meshes {
         let (w1, wmax, dofs) = run::mesh_modes(m)?;
-        let name = element_name(m.element);
-        writeln!(
-            meshes_csv,
-            "{name},{},{},{dofs},{w1:.6},{wmax:.6e}",
-            m.nx, m.ny
-        )
-        .expect("write to string");
+        write::mesh_row(&mut meshes_csv, m, w1, wmax, dofs);
         omega_max.push(wmax);
     }
     dir.write(&files.name("meshes.csv"), &meshes_csv)?;
-    let mut csv = String::from(run::header(!plan.dampings.is_empty()));
+    let mut csv = String::from(write::header(!plan.dampings.is_empty()));
     let mut quick_values = Vec::new();
     for (done, r) in plan.runs.iter().enumerate() {
         let wmax = omega_max[meshes.iter().position(|m| *m == r.mesh).expect("mesh")];
         let outcome = context.run(r)?;
-        run::rows(&mut csv, plan, r, wmax, &outcome);
+        write::rows(&mut csv, plan, r, wmax, &outcome);
         dir.write(&files.name("statistics.csv"), &csv)?;
         let label = match plan.damping_of(r) {
             Some(model) => format!("{} {}", r.scene.label(), model.label),
@@ -276,7 +268,7 @@ fn replica_check(context: &Context, started: Instant) -> Result<String, String> 
             settings: Vec::new(),
             part: plan::Part::Grid,
         };
-        run::replica_rows(&mut check, &r, &context.replicas(&r)?);
+        write::replica_rows(&mut check, &r, &context.replicas(&r)?);
         eprintln!(
             "replica check: {} {} {}×{} Δt={dt:e} (study {:.0} s)",
             forcing.label,
@@ -287,80 +279,6 @@ fn replica_check(context: &Context, started: Instant) -> Result<String, String> 
         );
     }
     Ok(check)
-}
-
-/// The meta file: the plan's settings, the command line and the commit of the code that ran.
-fn meta(
-    plan: &Plan,
-    options: &Options,
-    args: &[String],
-    revision: &str,
-    alpha: f64,
-    omega1: f64,
-    total_s: f64,
-) -> String {
-    let mut meta = String::from("key,value\n");
-    let windows = plan
-        .runs
-        .iter()
-        .find(|r| matches!(r.scene, SceneKind::Forced(_)))
-        .map_or(8, |r| r.windows);
-    for (k, v) in [
-        ("quick", options.quick.to_string()),
-        ("plan", plan.name.to_string()),
-        ("runs", plan.runs.len().to_string()),
-        ("command", args.join(" ")),
-        ("commit", revision.to_string()),
-        ("total_s", format!("{total_s:.1}")),
-        ("zeta1", ZETA1.to_string()),
-        ("alpha", format!("{alpha:.6}")),
-        ("omega1_reference", format!("{omega1:.6}")),
-        ("transient_s", plan.transient.to_string()),
-        ("windows", windows.to_string()),
-        ("window_target_s", plan.window_target.to_string()),
-        ("replicas", plan.replicas.to_string()),
-        ("energy_perturbation", run::ENERGY_PERTURBATION.to_string()),
-        (
-            "forced_perturbation_pa",
-            run::FORCED_PERTURBATION_PA.to_string(),
-        ),
-        ("sample_interval_s", run::SAMPLE_INTERVAL.to_string()),
-        ("overrides", options.overrides.join(" ")),
-    ] {
-        writeln!(meta, "{k},{}", csv_field(&v)).expect("write to string");
-    }
-    for d in &plan.dampings {
-        writeln!(meta, "damping {},{}", d.label, d.arguments().join(" ")).expect("write to string");
-    }
-    meta
-}
-
-/// `value` as a CSV field: quoted (with its quotes doubled) when it holds a comma or a quote.
-fn csv_field(value: &str) -> String {
-    if value.contains([',', '"']) {
-        format!("\"{}\"", value.replace('"', "\"\""))
-    } else {
-        value.to_string()
-    }
-}
-
-/// One line per run of `plan` (`--plan`: what a study would run, without running it).
-fn print_plan(plan: &Plan) {
-    for (k, r) in plan.runs.iter().enumerate() {
-        let model = plan.damping_of(r).map_or("", |d| d.label);
-        println!(
-            "{:>3} {:<15} {:<19} {model:<12} {:<7} {:>2}x{:<2} dt={:<6e} windows={} {}",
-            k + 1,
-            r.part.label(),
-            r.scene.label(),
-            element_name(r.mesh.element),
-            r.mesh.nx,
-            r.mesh.ny,
-            r.dt,
-            r.windows,
-            r.settings.join(" ")
-        );
-    }
 }
 
 /// What the quick mode asserts (checked in the full study too), on the damped 35 Hz scene on the

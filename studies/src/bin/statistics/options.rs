@@ -1,10 +1,10 @@
-//! The command line of the statistics example and the plan it asks for.
+//! the command line of the statistics study and the plan it asks for.
 
 use super::plan::{
     damping_grid, damping_models, damping_plan, parse_mesh, quick_grid, statistics_grid,
     statistics_plan, Grid, MeshPlan, Part, Plan, SceneKind, FORCINGS,
 };
-use crate::common::positive_integer;
+use plate_impact_studies::cli::{flag_value, positive_integer};
 
 /// Which study runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,7 +15,7 @@ pub enum Study {
     Damping,
 }
 
-/// The options of a run of the example (see its documentation).
+/// The options of a run of the study (see its documentation).
 pub struct Options {
     pub study: Study,
     pub quick: bool,
@@ -32,7 +32,7 @@ pub struct Options {
 
 /// The value after `flag` in `args`, if the flag is there.
 fn value_of(args: &[String], flag: &str) -> Result<Option<String>, String> {
-    crate::common::flag_value(args, flag)
+    flag_value(args, flag)
 }
 
 fn list(value: Option<String>) -> Option<Vec<String>> {

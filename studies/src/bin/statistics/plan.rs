@@ -587,6 +587,25 @@ fn extra_runs(part: Part, model: &dyn Fn(&str) -> Option<usize>) -> Vec<Run> {
 
 /// A mesh of `--mesh argyris:10x7`.
 pub fn parse_mesh(item: &str) -> Result<Mesh, String> {
-    let (element, nx, ny) = crate::common::parse_mesh_cells(item)?;
+    let (element, nx, ny) = plate_impact_studies::element::parse_mesh_cells(item)?;
     Ok(Mesh::new(element, nx, ny))
+}
+
+/// One line per run of `plan` (`--plan`: what a study would run, without running it).
+pub fn print_plan(plan: &Plan) {
+    for (k, r) in plan.runs.iter().enumerate() {
+        let model = plan.damping_of(r).map_or("", |d| d.label);
+        println!(
+            "{:>3} {:<15} {:<19} {model:<12} {:<7} {:>2}x{:<2} dt={:<6e} windows={} {}",
+            k + 1,
+            r.part.label(),
+            r.scene.label(),
+            plate_impact_studies::element::element_name(r.mesh.element),
+            r.mesh.nx,
+            r.mesh.ny,
+            r.dt,
+            r.windows,
+            r.settings.join(" ")
+        );
+    }
 }

@@ -207,14 +207,3 @@ impl Plan {
             .1
     }
 }
-
-/// `paper_table1.csv`: [`PAPER_TABLE1`] on the plan's paper meshes.
-pub fn paper_table1_csv(plan: &Plan) -> String {
-    let mut csv = String::from("element,nx,ny,dt,cpu_s\n");
-    for (element, dt, cpu_s) in PAPER_TABLE1 {
-        let (nx, ny) = plan.paper(element);
-        let name = crate::common::element_name(element);
-        csv.push_str(&format!("{name},{nx},{ny},{dt:e},{cpu_s}\n"));
-    }
-    csv
-}

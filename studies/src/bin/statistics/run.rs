@@ -1,17 +1,15 @@
-//! Running a plan: one simulation per [`Run`], its statistics and spreads (see the example's
-//! documentation), and the rows of the study's CSVs.
+//! Running a plan: one simulation per [`Run`], its statistics and spreads (see the study's
+//! documentation in main.rs), and the rows of the study's CSVs.
 
 use super::plan::{Forcing, Mesh, Plan, Run, SceneKind, ZETA1};
-use crate::common::element_name;
 use plate_impact::element::ElementKind;
 use plate_impact::scene::Scene;
 use plate_impact::scheme::Stepper;
 use plate_impact::system::PlateSystem;
-use std::fmt::Write as _;
+use plate_impact_studies::recorder::{stride, Recorder, Tally, Windows, SAMPLE_INTERVAL};
+use plate_impact_studies::sample::mean_std;
+use plate_impact_studies::windows::{window_spread, window_values, Quantity};
 use std::time::Instant;
-
-/// Outputs (corner, energy) are sampled at this interval, or every step when Δt is larger (s).
-pub const SAMPLE_INTERVAL: f64 = 1e-5;
 
 /// Relative perturbation step of the preload between replicas of the `energy` scene.
 pub const ENERGY_PERTURBATION: f64 = 1e-9;
@@ -23,7 +21,7 @@ pub const FORCED_PERTURBATION_PA: f64 = 1e-4;
 /// Times at which the `energy` scene's energy is read (s); the last is its horizon.
 const ENERGY_TIMES: [f64; 2] = [0.1, 0.3];
 
-/// A statistic of one run: its value and spread (see the example's documentation).
+/// A statistic of one run: its value and spread (see the study's documentation (main.rs)).
 #[derive(Clone, Copy, Debug)]
 pub struct Stat {
     pub quantity: &'static str,
@@ -40,81 +38,29 @@ pub struct Outcome {
     pub zeta_hf: f64,
 }
 
-/// Mean and sample standard deviation.
-pub fn mean_std(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
-    (mean, var.sqrt())
-}
-
-/// What one window of a forced run accumulates.
-#[derive(Clone, Copy, Debug, Default)]
-struct Window {
-    steps: usize,
-    impacts: usize,
-    contact_loss: f64,
-    base_force_abs: f64,
-    base_force_squared: f64,
-    samples: usize,
-    energy: f64,
-    corner_squared: f64,
-    corner_peak: f64,
-}
-
-/// The statistics over all `windows` of `periods` forcing periods each, with their spreads.
-fn window_stats(windows: &[Window], periods: usize) -> Vec<Stat> {
-    let k = windows.len() as f64;
-    let p = periods as f64;
-    let sum = |f: &dyn Fn(&Window) -> f64| windows.iter().map(f).sum::<f64>();
-    let samples = sum(&|w| w.samples as f64);
-    let steps = sum(&|w| w.steps as f64);
-    // A time average over all windows (their lengths agree to a step) and its standard error.
-    let averaged = |quantity, per_window: &dyn Fn(&Window) -> f64, total: f64| {
-        let values: Vec<f64> = windows.iter().map(per_window).collect();
-        Stat {
-            quantity,
-            value: total,
-            spread: mean_std(&values).1 / k.sqrt(),
-        }
+/// The statistics over all windows of a forced run (each of the same whole forcing periods),
+/// with their spreads: each time average over the whole of the windows, its spread the standard
+/// error of its K window values ([`window_spread`]); the peak |u| of the corner, a maximum, over
+/// all windows, its spread the standard deviation of the window peaks.
+fn window_stats(windows: &[Tally]) -> Vec<Stat> {
+    let averaged = |q: Quantity<Tally>| Stat {
+        quantity: q.name,
+        value: q.over(windows),
+        spread: window_spread(&window_values(windows, 1, |w| q.over(w))),
     };
     let peaks: Vec<f64> = windows.iter().map(|w| w.corner_peak).collect();
     vec![
-        averaged(
-            "rms_corner_m",
-            &|w| (w.corner_squared / w.samples as f64).sqrt(),
-            (sum(&|w| w.corner_squared) / samples).sqrt(),
-        ),
+        averaged(Quantity::RMS_CORNER),
         Stat {
             quantity: "peak_corner_m",
             value: peaks.iter().fold(0.0, |a: f64, &b| a.max(b)),
             spread: mean_std(&peaks).1,
         },
-        averaged(
-            "impacts_per_period",
-            &|w| w.impacts as f64 / p,
-            sum(&|w| w.impacts as f64) / (k * p),
-        ),
-        averaged(
-            "contact_loss_per_period_J",
-            &|w| w.contact_loss / p,
-            sum(&|w| w.contact_loss) / (k * p),
-        ),
-        averaged(
-            "mean_energy_J",
-            &|w| w.energy / w.samples as f64,
-            sum(&|w| w.energy) / samples,
-        ),
-        averaged(
-            "mean_abs_base_force_N",
-            &|w| w.base_force_abs / w.steps as f64,
-            sum(&|w| w.base_force_abs) / steps,
-        ),
-        averaged(
-            "rms_base_force_N",
-            &|w| (w.base_force_squared / w.steps as f64).sqrt(),
-            (sum(&|w| w.base_force_squared) / steps).sqrt(),
-        ),
+        averaged(Quantity::IMPACTS_PER_PERIOD),
+        averaged(Quantity::CONTACT_LOSS_PER_PERIOD),
+        averaged(Quantity::MEAN_ENERGY),
+        averaged(Quantity::MEAN_ABS_BASE_FORCE),
+        averaged(Quantity::RMS_BASE_FORCE),
     ]
 }
 
@@ -130,12 +76,6 @@ fn base_scene(mesh: Mesh, dt: f64) -> Scene {
 fn apply(scene: &mut Scene, settings: &[String]) -> Result<(), String> {
     let pairs: Vec<(&str, &str)> = settings.iter().filter_map(|o| o.split_once('=')).collect();
     scene.set_all(&pairs).map_err(|e| e.to_string())
-}
-
-/// Every `stride` steps the outputs are sampled: every step up to [`SAMPLE_INTERVAL`], then
-/// every interval.
-fn sample_stride(dt: f64) -> usize {
-    ((SAMPLE_INTERVAL / dt).round() as usize).max(1)
 }
 
 /// What every run of `plan` shares: the `-damped` forcings' α and the command line's settings.
@@ -213,38 +153,17 @@ impl Context<'_> {
         let bounds: Vec<usize> = (0..=run.windows)
             .map(|j| ((plan.transient + j as f64 * window_s) / dt).round() as usize)
             .collect();
-        let steps = *bounds.last().expect("windows");
-        let stride = sample_stride(dt);
-        let mut windows = vec![Window::default(); run.windows];
+        let recorder = Recorder {
+            steps: *bounds.last().expect("windows"),
+            windows: Windows::Bounds(bounds),
+            stride: stride(SAMPLE_INTERVAL, dt),
+        };
+        let mut windows = vec![Tally::spanning(periods); run.windows];
         let started = Instant::now();
         let mut stepper = Stepper::new(&s, 0.0).map_err(|e| e.to_string())?;
-        let mut j = 0;
-        for n in 1..=steps {
-            let report = stepper
-                .step(s.builtin_base(n as f64 * dt))
-                .map_err(|e| format!("{} step {n}: {e}", forcing.label))?;
-            if n <= bounds[0] {
-                continue;
-            }
-            if n > bounds[j + 1] {
-                j += 1;
-            }
-            let w = &mut windows[j];
-            w.steps += 1;
-            w.impacts += usize::from(report.impact);
-            w.contact_loss += report.flows.contact_loss;
-            w.base_force_abs += report.base_force.abs();
-            w.base_force_squared += report.base_force * report.base_force;
-            if n % stride == 0 {
-                let o = stepper.outputs();
-                w.samples += 1;
-                w.energy += o.energy_total;
-                w.corner_squared += o.corner1 * o.corner1;
-                w.corner_peak = w.corner_peak.max(o.corner1.abs());
-            }
-        }
+        recorder.run(&mut stepper, forcing.label, &mut windows, |_, _, _| Ok(()))?;
         Ok(Outcome {
-            stats: window_stats(&windows, periods),
+            stats: window_stats(&windows),
             wall_s: started.elapsed().as_secs_f64(),
             zeta_hf: zeta_hf(&s),
         })
@@ -346,72 +265,6 @@ pub fn mesh_modes(mesh: Mesh) -> Result<(f64, f64, usize), String> {
         w2.last().expect("modes").sqrt(),
         plate.free.len(),
     ))
-}
-
-/// The header of the study's CSV; with damping models (the damping study), a `damping` column
-/// after the scene's.
-pub fn header(with_damping: bool) -> &'static str {
-    if with_damping {
-        "quantity,scene,damping,element,nx,ny,dt,omega_max_dt,value,spread,wall_s,windows,zeta_hf,part\n"
-    } else {
-        "quantity,scene,element,nx,ny,dt,omega_max_dt,value,spread,wall_s,windows,zeta_hf,part\n"
-    }
-}
-
-/// One CSV row per statistic of `outcome`; `windows` is empty for the `energy` scene.
-pub fn rows(csv: &mut String, plan: &Plan, run: &Run, omega_max: f64, outcome: &Outcome) {
-    let scene = match plan.damping_of(run) {
-        Some(model) => format!("{},{}", run.scene.label(), model.label),
-        None if plan.dampings.is_empty() => run.scene.label().to_string(),
-        None => format!("{},", run.scene.label()),
-    };
-    let windows = match run.scene {
-        SceneKind::Forced(_) => run.windows.to_string(),
-        SceneKind::Energy => String::new(),
-    };
-    let m = run.mesh;
-    for s in &outcome.stats {
-        writeln!(
-            csv,
-            "{},{scene},{},{},{},{:e},{:.6e},{:.10e},{:.4e},{:.6},{windows},{:.6e},{}",
-            s.quantity,
-            element_name(m.element),
-            m.nx,
-            m.ny,
-            run.dt,
-            omega_max * run.dt,
-            s.value,
-            s.spread,
-            outcome.wall_s,
-            outcome.zeta_hf,
-            run.part.label()
-        )
-        .expect("write to string");
-    }
-}
-
-/// The rows of `replica_check.csv` for `run`: each statistic's window estimate of the spread
-/// against the replicas' standard deviation.
-pub fn replica_rows(csv: &mut String, run: &Run, stats: &[Vec<Stat>]) {
-    let m = run.mesh;
-    for (q, s) in stats[0].iter().enumerate() {
-        let values: Vec<f64> = stats.iter().map(|r| r[q].value).collect();
-        let (mean, std) = mean_std(&values);
-        writeln!(
-            csv,
-            "{},{},{},{},{:e},{},{:.10e},{:.4e},{mean:.10e},{std:.4e},{}",
-            run.scene.label(),
-            element_name(m.element),
-            m.nx,
-            m.ny,
-            run.dt,
-            s.quantity,
-            s.value,
-            s.spread,
-            stats.len()
-        )
-        .expect("write to string");
-    }
 }
 
 /// α = 2ζ₁ω₁ of the `-damped` forcings (1/s) and ω₁ (rad/s) of the paper's Argyris 10 × 7 mesh.

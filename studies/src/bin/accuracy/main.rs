@@ -2,12 +2,12 @@
 //! from coarse to fine and Δt from 1e-3 to 1e-6 s, plus the paper's Table 1 case and clarabel on
 //! every step as a second strategy.
 //!
-//! `cargo run --release --example accuracy [-- --quick] [--out DIR]`
+//! `cargo run --release -p plate_impact_studies --bin accuracy [-- --quick] [--out DIR]`
 //!
-//! The study in three steps: the plan (`accuracy/plan.rs`: scenes, meshes, Δt levels and the
-//! cases they make, one per simulation), the run (`accuracy/run.rs`: the simulations and the CSVs
-//! of their results) and the write (`python -m plateimpact_tools.studies.accuracy_plots`, the
-//! package in `tools/` run with the Python of `scripts/python-env`: the plots and the tables of
+//! The study in three steps: the plan (`plan.rs`: scenes, meshes, Δt levels and the cases they
+//! make, one per simulation), the run (`run.rs`: the simulations) and the write (`write.rs`: the
+//! CSVs of their results; then `python -m plateimpact_tools.studies.accuracy_plots`, the package
+//! in `tools/` run with the Python of `scripts/python-env`: the plots and the tables of
 //! `README.md`, whose prose is hand-written).
 //!
 //! Every run happens in this process, one after the other (no threads, so that the wall times,
@@ -27,19 +27,18 @@
 //! order in Δt of the contact-free case is within 0.2 of 2 and the whole pipeline (CSV, plots,
 //! README) completes.
 
-#[path = "../common/mod.rs"]
-mod common;
-#[path = "accuracy/plan.rs"]
 mod plan;
-#[path = "accuracy/run.rs"]
 mod run;
+mod write;
 
-use common::{element_name, exit_code, source_revision, StudyDir};
 use plan::{cases, full_plan, quick_plan, Case, Plan};
-use plate_impact::element::ElementKind;
 use plate_impact::scene::QpChoice;
+use plate_impact_studies::cli::exit_code;
+use plate_impact_studies::element::element_name;
+use plate_impact_studies::order::observed_order;
+use plate_impact_studies::output::StudyDir;
+use plate_impact_studies::revision::source_revision;
 use run::{difference, Results};
-use std::fmt::Write as _;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -54,18 +53,20 @@ fn study() -> Result<(), String> {
     let revision = source_revision();
     let plan = if dir.quick { quick_plan() } else { full_plan() };
     let started = Instant::now();
-    dir.write("frequencies.csv", &run::frequencies_csv(&plan)?)?;
+    let frequencies = run::frequencies(&plan)?;
+    dir.write("frequencies.csv", &write::frequencies_csv(&frequencies))?;
     let results = Results::new(&plan, run::run_cases(&plan, &cases(&plan))?);
-    dir.write("runs.csv", &results.runs_csv())?;
-    dir.write("traces.csv", &results.traces_csv())?;
-    dir.write("reference_check.csv", &results.reference_check_csv()?)?;
-    dir.write("table1.csv", &run::table1_csv(&plan)?)?;
-    dir.write("paper_table1.csv", &plan::paper_table1_csv(&plan))?;
+    dir.write("runs.csv", &write::runs_csv(&results))?;
+    dir.write("traces.csv", &write::traces_csv(&results))?;
+    let checks = results.reference_checks()?;
+    dir.write("reference_check.csv", &write::reference_check_csv(&checks))?;
+    dir.write("table1.csv", &write::table1_csv(&run::table1(&plan)?))?;
+    dir.write("paper_table1.csv", &write::paper_table1_csv(&plan))?;
     let total_s = started.elapsed().as_secs_f64();
     eprintln!("runs done in {total_s:.1} s; writing tables and plots");
     dir.write(
         "meta.csv",
-        &meta(&results, &args, &revision, dir.quick, total_s),
+        &write::meta(&results, &args, &revision, dir.quick, total_s),
     )?;
     dir.page("accuracy", "README.md")?;
     dir.plot("accuracy_plots")?;
@@ -90,64 +91,6 @@ fn study() -> Result<(), String> {
         dir.path.display()
     );
     dir.finish(failures)
-}
-
-/// `meta.csv`: what the write step needs to describe the study, the command line and the commit
-/// of the code that ran.
-fn meta(results: &Results, args: &[String], revision: &str, quick: bool, total_s: f64) -> String {
-    let plan = results.plan;
-    let list = |xs: &[f64]| {
-        let items: Vec<String> = xs.iter().map(|x| format!("{x:e}")).collect();
-        items.join(" ")
-    };
-    let meshes = |element: ElementKind| {
-        let (_, meshes) = plan
-            .meshes
-            .iter()
-            .find(|(e, _)| *e == element)
-            .expect("element");
-        let names: Vec<String> = meshes.iter().map(|(nx, ny)| format!("{nx}×{ny}")).collect();
-        names.join(" ")
-    };
-    let cells = |(nx, ny): (usize, usize)| format!("{nx}x{ny}");
-    let reference = results.reference(plan.scenes[0]).case;
-    let impacts: Vec<String> = plan
-        .scenes
-        .iter()
-        .map(|&scene| format!("{scene} {} impacts", results.reference(scene).impacts))
-        .collect();
-    let mut meta = String::from("key,value\n");
-    for (k, v) in [
-        ("quick", quick.to_string()),
-        ("command", args.join(" ")),
-        ("commit", revision.to_string()),
-        ("horizon", plan.horizon.to_string()),
-        ("total_s", format!("{total_s:.1}")),
-        ("meshes_argyris", meshes(ElementKind::Argyris)),
-        ("meshes_fvs", meshes(ElementKind::Fvs)),
-        ("dt_grid", list(&plan.dt_grid)),
-        ("dt_sweep", list(&plan.dt_sweep)),
-        (
-            "paper_mesh_argyris",
-            cells(plan.paper(ElementKind::Argyris)),
-        ),
-        ("paper_mesh_fvs", cells(plan.paper(ElementKind::Fvs))),
-        (
-            "reference",
-            format!(
-                "Argyris {}×{} at Δt = {:e} s",
-                reference.mesh.0, reference.mesh.1, reference.dt
-            ),
-        ),
-        (
-            "check_mesh",
-            format!("{}×{}", plan.check_mesh.0, plan.check_mesh.1),
-        ),
-        ("impacts", impacts.join("; ")),
-    ] {
-        writeln!(meta, "{k},\"{}\"", v.replace('"', "\"\"")).expect("write to string");
-    }
-    meta
 }
 
 /// Contact-free orders in Δt (time error alone, paper mesh, over every Δt at least twice the
@@ -179,7 +122,8 @@ fn order_check(results: &Results) -> Vec<String> {
                     (r.case.dt, difference(&r.trace, &other.trace).0)
                 })
                 .collect();
-            let order = slope(&points);
+            let (steps, errors): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+            let order = observed_order(&steps, &errors);
             eprintln!(
                 "{scene}: order in Δt, {} {}×{}: {order:.3} (RMS corner error, {} levels)",
                 element_name(element),
@@ -196,15 +140,4 @@ fn order_check(results: &Results) -> Vec<String> {
         }
     }
     failures
-}
-
-/// Least-squares slope of log(err) against log(x).
-fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|(x, y)| (x.ln(), y.ln())).unzip();
-    let mx = lx.iter().sum::<f64>() / n;
-    let my = ly.iter().sum::<f64>() / n;
-    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }
