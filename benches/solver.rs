@@ -1,6 +1,7 @@
 //! Benchmarks (timings and ratios measured in one run; never asserted in tests).
 //!
-//! `cargo bench --bench solver [-- --quick | --scale | --crossover | --anatomy | --case NAME [--csv]]`
+//! `cargo bench --bench solver [-- --quick | --scale | --crossover | --anatomy | --case NAME [--csv]
+//! | --case NAME --rounds R]`
 //!
 //! 1. Assembly of M, K and the load for the paper's 140-element meshes and for ~10k elements.
 //! 2. Stepping the `forced` scene at 35 Hz, Δt = 1e-4 s, 1 s (10⁴ steps) for both elements with
@@ -10,7 +11,12 @@
 //! 3. Contact at scale: each case runs in a child process of its own (`--case NAME`), so that its
 //!    peak resident memory (VmHWM of /proc/self/status) is its own; it prints set-up time, µs per
 //!    step split into contact-free steps and steps with a QP, and the memory peaks after the
-//!    set-up and after the run (`--csv`: the same as one CSV line).
+//!    set-up and after the run (`--csv`: the same as one CSV line). With `--rounds R` it sets up
+//!    once and runs the case R times from the initial state (a restored state continues bit for
+//!    bit, so every round takes the same steps): one line per round, then the median CPU µs of a
+//!    step with a QP, beside the floor of such a step on a modal backend, the rows of C = BΦ of
+//!    the vertices in contact (one row of n doubles each) read once at the rate of a streaming
+//!    read of a buffer the size of C, measured in the same run.
 //!
 //! `--verify NAME` runs a case beside the clarabel reference (`solver.qp = clarabel`) until ten
 //! steps with a QP have been compared, and prints the largest difference of the constrained
@@ -54,7 +60,16 @@ fn main() {
     }
     if let Some(k) = args.iter().position(|a| a == "--case") {
         let name = args.get(k + 1).expect("--case needs a case name");
-        run_case(&case(name), args.iter().any(|a| a == "--csv"));
+        match args.iter().position(|a| a == "--rounds") {
+            Some(r) => {
+                let rounds = args
+                    .get(r + 1)
+                    .and_then(|v| v.parse().ok())
+                    .expect("--rounds needs a count");
+                run_rounds(&case(name), rounds);
+            }
+            None => run_case(&case(name), args.iter().any(|a| a == "--csv")),
+        }
         return;
     }
     if args.iter().any(|a| a == "--anatomy") {
@@ -438,29 +453,14 @@ fn run_case(case: &Case, csv: bool) {
     let setup_cpu = cpu_seconds() - cpu;
     drop(plate);
     let memory_setup = peak_memory_mib();
-    let steps = (s.stop_time / s.solver.time_step).round() as usize;
-    // (count, seconds, CPU seconds) of contact-free steps and of steps with a QP.
-    let mut free = (0usize, 0.0f64, 0.0f64);
-    let mut qp = (0usize, 0.0f64, 0.0f64);
-    let (mut most_active, mut active_sum) = (0, 0);
     let t = Instant::now();
-    for n in 1..=steps {
-        let z = s.builtin_base(n as f64 * s.solver.time_step);
-        let (t_step, cpu) = (Instant::now(), cpu_seconds());
-        let report = stepper.step(z).unwrap();
-        let elapsed = t_step.elapsed().as_secs_f64();
-        let elapsed_cpu = cpu_seconds() - cpu;
-        let slot = if report.path == StepPath::Unconstrained {
-            &mut free
-        } else {
-            &mut qp
-        };
-        slot.0 += 1;
-        slot.1 += elapsed;
-        slot.2 += elapsed_cpu;
-        most_active = most_active.max(report.active);
-        active_sum += report.active;
-    }
+    let RunTotals {
+        steps,
+        free,
+        qp,
+        most_active,
+        active_sum,
+    } = run_steps(&mut stepper, s);
     let per_step = t.elapsed().as_secs_f64() / steps as f64;
     let mean_us = |count: usize, time: f64| 1e6 * time / count.max(1) as f64;
     let outputs = stepper.output_point_displacements()[1].map(|u| format!("{u:.15e}"));
@@ -494,6 +494,126 @@ fn run_case(case: &Case, csv: bool) {
     } else {
         println!("| {} |", fields.join(" | "));
     }
+}
+
+/// What the steps of one run of a case did.
+struct RunTotals {
+    steps: usize,
+    /// (count, seconds, CPU seconds) of the contact-free steps.
+    free: (usize, f64, f64),
+    /// The same of the steps with a QP.
+    qp: (usize, f64, f64),
+    /// The largest active set.
+    most_active: usize,
+    /// The sum of the active-set sizes over the steps.
+    active_sum: usize,
+}
+
+/// Steps `stepper` through the scene `s` from its state at t = 0 to `s.stop_time`, timing each
+/// step (wall and CPU) and sorting it into contact-free steps and steps with a QP.
+fn run_steps(stepper: &mut Stepper, s: &Scene) -> RunTotals {
+    let steps = (s.stop_time / s.solver.time_step).round() as usize;
+    let mut totals = RunTotals {
+        steps,
+        free: (0, 0.0, 0.0),
+        qp: (0, 0.0, 0.0),
+        most_active: 0,
+        active_sum: 0,
+    };
+    for n in 1..=steps {
+        let z = s.builtin_base(n as f64 * s.solver.time_step);
+        let (t_step, cpu) = (Instant::now(), cpu_seconds());
+        let report = stepper.step(z).unwrap();
+        let elapsed = t_step.elapsed().as_secs_f64();
+        let elapsed_cpu = cpu_seconds() - cpu;
+        let slot = if report.path == StepPath::Unconstrained {
+            &mut totals.free
+        } else {
+            &mut totals.qp
+        };
+        slot.0 += 1;
+        slot.1 += elapsed;
+        slot.2 += elapsed_cpu;
+        totals.most_active = totals.most_active.max(report.active);
+        totals.active_sum += report.active;
+    }
+    totals
+}
+
+/// `--case NAME --rounds R`: sets the case up once and runs it `rounds` times from its initial
+/// state; prints each round (the steps it took, CPU µs per step of each kind, the outputs at the
+/// end) and the median CPU µs of a step with a QP beside its floor (module docs).
+fn run_rounds(case: &Case, rounds: usize) {
+    let s = &case.scene;
+    let cpu = cpu_seconds();
+    let mut stepper = Stepper::new(s, 0.0).unwrap();
+    let setup_cpu = cpu_seconds() - cpu;
+    let initial = stepper.state();
+    let (m, n) = (stepper.constrained_count(), stepper.free_dof_count());
+    let row_bytes = 8 * n;
+    let bandwidth = stream_read_bandwidth(m * row_bytes);
+    println!(
+        "{}: {:?} backend, {n} free dofs, {m} constrained, set-up {setup_cpu:.2} CPU s; streaming \
+         read of {:.1} MB (the size of C = BΦ): {:.1} GB/s",
+        case.name,
+        stepper.linear_backend(),
+        (m * row_bytes) as f64 / 1e6,
+        bandwidth / 1e9
+    );
+    let mut qp_us = Vec::with_capacity(rounds);
+    let mut floor_us = 0.0;
+    for round in 1..=rounds {
+        stepper.restore(&initial).unwrap();
+        let t = run_steps(&mut stepper, s);
+        let cpu_us = |(count, _, cpu): (usize, f64, f64)| 1e6 * cpu / count.max(1) as f64;
+        let rows_per_qp = t.active_sum as f64 / t.qp.0.max(1) as f64;
+        floor_us = 1e6 * rows_per_qp * row_bytes as f64 / bandwidth;
+        let outputs = stepper.output_point_displacements()[1].map(|u| format!("{u:.15e}"));
+        println!(
+            "round {round}: {} steps with a QP at {:.1} CPU µs ({:.1} wall), {} contact-free at \
+             {:.2} CPU µs; largest active set {}, Σ active {}; outputs at the end {}",
+            t.qp.0,
+            cpu_us(t.qp),
+            1e6 * t.qp.1 / t.qp.0.max(1) as f64,
+            t.free.0,
+            cpu_us(t.free),
+            t.most_active,
+            t.active_sum,
+            outputs.join(" ")
+        );
+        qp_us.push(cpu_us(t.qp));
+    }
+    let median_us = median(qp_us);
+    print!("median over {rounds} rounds: {median_us:.1} CPU µs per step with a QP");
+    if stepper.linear_backend() == LinearChoice::Modal {
+        print!(
+            "; floor {floor_us:.1} µs (the rows of its vertices in contact read once: {:.2} MB at \
+             {:.1} GB/s); ratio {:.2}",
+            floor_us * 1e-6 * bandwidth / 1e6,
+            bandwidth / 1e9,
+            median_us / floor_us
+        );
+    }
+    println!();
+}
+
+/// Bytes per second of a streaming read of a buffer of `bytes` bytes (summed with eight
+/// independent partial sums, so that the adds do not wait on each other; the median of several
+/// passes after a first one that brings it into whatever cache holds it).
+fn stream_read_bandwidth(bytes: usize) -> f64 {
+    let buffer = vec![1.0_f64; bytes.div_ceil(64) * 8];
+    let pass = || {
+        let mut partial = [0.0_f64; 8];
+        for chunk in buffer.chunks_exact(8) {
+            for (p, v) in partial.iter_mut().zip(chunk) {
+                *p += v;
+            }
+        }
+        std::hint::black_box(partial);
+    };
+    pass();
+    let passes = (2_000_000_000 / buffer.len().max(1)).clamp(5, 200);
+    (buffer.len() * 8) as f64 / time_median(passes, pass)
 }
 
 /// Runs `case` with the fast path and with clarabel on every constrained step side by side until
@@ -567,20 +687,8 @@ fn time_median(reps: usize, mut f: impl FnMut()) -> f64 {
 }
 
 fn solve_anatomy() {
-    // Bandwidth: summing a 256 MiB array with eight independent partial sums (so that the adds
-    // do not wait on each other), the way a triangular solve streams its factor.
-    let big = vec![1.0_f64; 32 << 20];
-    let read = time_median(5, || {
-        let mut partial = [0.0_f64; 8];
-        for chunk in big.chunks_exact(8) {
-            for (p, v) in partial.iter_mut().zip(chunk) {
-                *p += v;
-            }
-        }
-        std::hint::black_box(partial);
-    });
-    let bandwidth = (big.len() * 8) as f64 / read;
-    drop(big);
+    // Bandwidth: a streaming read of 256 MiB, the way a triangular solve streams its factor.
+    let bandwidth = stream_read_bandwidth(256 << 20);
     println!(
         "memory read bandwidth (one core, summing 256 MiB): {:.1} GB/s",
         bandwidth / 1e9
