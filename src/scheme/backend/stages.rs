@@ -160,16 +160,43 @@ impl<'a> Unproven<'a> {
     /// The constrained values that the contact solve of this step starts from, into `out`: exact
     /// at every point the backend cannot prove inside the screening's `bounds` (those the
     /// screening was given), and at the others possibly a stand-in value inside them, which
-    /// [`Values::solve`] replaces by the exact value wherever the solution reaches it. A caller
-    /// that needs every value exact uses [`Unproven::exact_values`].
+    /// [`Values::solve`] replaces by the exact value wherever the solution reaches it. So a
+    /// point's value is past a bound exactly where the prediction's is, as a law that bounds the
+    /// crossing points needs. A caller that needs every value exact uses
+    /// [`Unproven::exact_values`].
     pub(in crate::scheme) fn values(
         self,
         out: &'a mut [f64],
         bounds: ObstacleBounds,
     ) -> Values<'a> {
+        self.values_keeping(out, bounds, false)
+    }
+
+    /// As [`Unproven::values`], but a large modal basis may also keep a stand-in that it has not
+    /// proven inside, past a bound or not, when the prediction certainly crosses a bound
+    /// elsewhere: for a contact solve whose bounds do not depend on which points cross (the
+    /// position law). Whether the prediction crosses a bound is still read off the values
+    /// exactly: they lie within the bounds only if the prediction does.
+    pub(in crate::scheme) fn solve_values(
+        self,
+        out: &'a mut [f64],
+        bounds: ObstacleBounds,
+    ) -> Values<'a> {
+        self.values_keeping(out, bounds, true)
+    }
+
+    /// [`Unproven::values`], keeping unproven stand-ins when `keep_unproven`.
+    fn values_keeping(
+        self,
+        out: &'a mut [f64],
+        bounds: ObstacleBounds,
+        keep_unproven: bool,
+    ) -> Values<'a> {
         let Unproven { fields, engine } = self;
         let engine = match engine {
-            Engine::Modal(unproven) => Engine::Modal(unproven.values(fields.next, bounds, out)),
+            Engine::Modal(unproven) => {
+                Engine::Modal(unproven.values(fields.next, bounds, keep_unproven, out))
+            }
             Engine::Sparse(step) => {
                 fields.maps.constrained_values(fields.next, out);
                 Engine::Sparse(step)

@@ -28,7 +28,7 @@ pub(super) struct Screening {
     /// Per vertex: whether its value handed to the contact solve is the stand-in, the last
     /// screening level's low-mode part ŷ_i, with |y*_i − ŷ_i| ≤ `slack[i]`.
     pub(super) stand_in: Vec<bool>,
-    slack: Vec<f64>,
+    pub(super) slack: Vec<f64>,
     /// ‖q_H‖ past the last screening level and past each stand-in level, for [`Self::values`].
     remainder_norms: Vec<f64>,
 }
@@ -160,16 +160,21 @@ impl Screening {
     /// basis of up to [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT) modes every other vertex gets its exact value
     /// ŷ_i + (C_H q_H)_i: an m × n product becomes one over the vertices near an obstacle only.
     /// On a larger basis, whose rows of C are long, the others are summed over the modes of the
-    /// stand-in levels ([`ModalData::stand_in_levels`]) until one proves them inside, and every
-    /// vertex gets a stand-in: the deepest level's partial sum with its remainder bound as
-    /// slack, even past a bound. The contact solve then pays a row of C only for the vertices
-    /// its answer reaches ([`Screening::reached_stand_ins`]), at the price of solving again.
+    /// stand-in levels ([`ModalData::stand_in_levels`]) until one proves them inside. With
+    /// `keep_unproven`, and when some stand-in lies past a bound by more than its slack (the
+    /// prediction then needs a contact solve whatever the exact values), every vertex gets a
+    /// stand-in: the deepest level's partial sum with its remainder bound as slack, even past a
+    /// bound, and the contact solve pays a row of C only for the vertices its answer reaches
+    /// ([`Screening::reached_stand_ins`]), at the price of solving again. Otherwise the
+    /// vertices no level proves inside get their exact values, so that the values lie within
+    /// the bounds exactly where the prediction does.
     pub(super) fn values(
         &mut self,
         data: &ModalData,
         norm_squared: f64,
         next: &[f64],
         bounds: ObstacleBounds,
+        keep_unproven: bool,
         out: &mut [f64],
     ) -> bool {
         let last = data.levels.len() - 1;
@@ -182,8 +187,8 @@ impl Screening {
                 .iter()
                 .map(|&from| sum_of_squares(&next[from..]).sqrt()),
         );
-        let deep = !data.stand_in_levels.is_empty();
-        let mut stand_ins = false;
+        // First whether each stand-in is proven inside, then whether it is kept.
+        let mut past = false;
         for (i, value) in out.iter_mut().enumerate() {
             let round_off = 1e-12 * data.row_norms[i] * total;
             let (lower, upper) = (bounds.lower(i), bounds.upper(i));
@@ -202,10 +207,19 @@ impl Screening {
                 slack = data.stand_in_row_norms[level][i] * high[level + 1] + round_off;
                 proven = inside(stand_in, slack);
             }
-            let kept = proven || deep;
-            *value = if kept { stand_in } else { low };
-            self.stand_in[i] = kept;
+            *value = stand_in;
+            self.stand_in[i] = proven;
             self.slack[i] = slack;
+            past |= stand_in + slack < lower || stand_in - slack > upper;
+        }
+        let deep = !data.stand_in_levels.is_empty() && keep_unproven && past;
+        let mut stand_ins = false;
+        for (i, value) in out.iter_mut().enumerate() {
+            let kept = self.stand_in[i] || deep;
+            if !kept {
+                *value = self.low_values[i];
+            }
+            self.stand_in[i] = kept;
             stand_ins |= kept;
         }
         // The exact values, one product per run of consecutive vertices that need one: near
@@ -283,17 +297,19 @@ impl<'a> Predicted<'a> {
 
 impl<'a> Unproven<'a> {
     /// The values of the prediction `next` that the contact solve starts from, into `out`:
-    /// [`Screening::values`] for the bounds the screening failed on.
+    /// [`Screening::values`] for the bounds the screening failed on, keeping stand-ins that no
+    /// level proves inside when `keep_unproven`.
     pub(in crate::scheme) fn values(
         self,
         next: &[f64],
         bounds: ObstacleBounds,
+        keep_unproven: bool,
         out: &mut [f64],
     ) -> Valued<'a> {
         let Unproven { step, norm_squared } = self;
-        let stand_ins = step
-            .screening
-            .values(step.data, norm_squared, next, bounds, out);
+        let stand_ins =
+            step.screening
+                .values(step.data, norm_squared, next, bounds, keep_unproven, out);
         Valued { step, stand_ins }
     }
 

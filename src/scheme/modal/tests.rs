@@ -141,7 +141,7 @@ fn near_contact_shortcuts_are_bit_identical() {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&levelled.low_values), bits(&shortcut.low_values));
         let mut out = vec![0.0; data.c.nrows()];
-        shortcut.values(&data, norm_squared, &q, box_, &mut out);
+        shortcut.values(&data, norm_squared, &q, box_, true, &mut out);
         let stand_ins = shortcut.stand_in.iter().filter(|&&s| s).count();
         mixed += usize::from(stand_ins > 0 && stand_ins < data.c.nrows());
         for (i, &value) in out.iter().enumerate() {
@@ -200,6 +200,62 @@ fn stand_in_levels_give_the_exact_solution() {
     assert!(repeated > 500, "{repeated} solves that reached a stand-in");
 }
 
+/// The values of a large basis decide feasibility exactly: a stand-in lies within its slack of
+/// the exact value, and when they are asked for without unproven stand-ins, or when none of them
+/// lies past a bound by more than its slack, every value is exact or a stand-in proven inside
+/// its bounds, so that the values lie within the bounds exactly when the prediction does.
+#[test]
+fn large_basis_values_decide_feasibility_exactly() {
+    let mut data = synthetic_data();
+    let large = Arc::get_mut(&mut data).expect("a fresh data set");
+    large.set_stand_in_levels(&[40, 50]);
+    let (n, m) = (data.c.ncols(), data.c.nrows());
+    let (lower, upper) = (-0.05, 0.04);
+    let heights = flat(m);
+    let box_ = bounds(lower, upper, &heights);
+    let (mut kept, mut exact_ones) = (0, 0);
+    for case in 0..2000 {
+        let q = swept_prediction(case, n);
+        let mut exact = vec![0.0; m];
+        data.constrained_values(&q, &mut exact);
+        let mut screening = Screening::new(&data);
+        let Screen::Unproven { norm_squared } = screening.screen(&data, f64::INFINITY, &q, box_)
+        else {
+            continue;
+        };
+        for keep_unproven in [false, true] {
+            let mut out = vec![0.0; m];
+            screening.values(&data, norm_squared, &q, box_, keep_unproven, &mut out);
+            let slack = |i: usize| screening.slack[i];
+            let proven = |i: usize| out[i] - slack(i) >= lower && out[i] + slack(i) <= upper;
+            let certainly_past = (0..m).any(|i| {
+                screening.stand_in[i] && (out[i] + slack(i) < lower || out[i] - slack(i) > upper)
+            });
+            for i in 0..m {
+                if screening.stand_in[i] {
+                    assert!((exact[i] - out[i]).abs() <= slack(i), "case {case}, {i}");
+                    assert!(
+                        keep_unproven && certainly_past || proven(i),
+                        "case {case}, {i}"
+                    );
+                    kept += usize::from(!proven(i));
+                } else {
+                    assert!((exact[i] - out[i]).abs() <= 1e-12, "case {case}, {i}");
+                    exact_ones += 1;
+                }
+            }
+            let admitted = out.iter().all(|&y| (lower..=upper).contains(&y));
+            let feasible = exact.iter().all(|&y| (lower..=upper).contains(&y));
+            assert!(
+                !admitted || feasible,
+                "case {case}: values admitted past a bound"
+            );
+        }
+    }
+    println!("{kept} unproven stand-ins kept, {exact_ones} exact values");
+    assert!(kept > 100 && exact_ones > 100);
+}
+
 /// Runs the contact solves of the stand-in tests on `data`, asserting that each gives the
 /// states, multipliers and corrected q of the solve from exact values on `reference` (the same
 /// basis); returns the counts of solves, of solves with a stand-in and of solves that reached one.
@@ -231,7 +287,7 @@ fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>)
             continue;
         }
         let mut values = vec![0.0; m];
-        let valued = unproven.values(&q, box_, &mut values);
+        let valued = unproven.values(&q, box_, true, &mut values);
         let stand_ins = valued
             .step
             .screening

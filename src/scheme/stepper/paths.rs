@@ -118,13 +118,16 @@ impl Run {
         let values = if auto {
             match prediction.screen(bounds) {
                 Screened::Proven(fields) => return Route::Screened(fields),
-                // The active-set method on the position and persistent laws solves from
-                // stand-ins where they are proven inside the obstacles, hence cross none (see
-                // `Unproven::values`); Newton's law reads the exact prediction of every vertex.
-                Screened::Unproven(unproven) if !matches!(self.law, Law::Newton(_)) => {
-                    unproven.values(values, bounds)
-                }
-                Screened::Unproven(unproven) => unproven.exact_values(values),
+                // The active-set method on the position law solves from stand-ins, which the
+                // solve evaluates where its answer reaches them (`Unproven::solve_values`); the
+                // persistent law bounds the vertices the prediction takes past an obstacle, so
+                // its stand-ins are proven inside (`Unproven::values`); Newton's law reads the
+                // exact prediction of every vertex.
+                Screened::Unproven(unproven) => match self.law {
+                    Law::Position => unproven.solve_values(values, bounds),
+                    Law::Persistent(_) => unproven.values(values, bounds),
+                    Law::Newton(_) => unproven.exact_values(values),
+                },
             }
         } else {
             prediction.exact_values(values)
