@@ -1,6 +1,6 @@
 //! The modal contact solve: the active-set method on the precomputed Delassus operator
 //! W = C D⁻¹ Cᵀ from the prediction's values, repeated while its answer reaches a stand-in
-//! ([`Screening::reached_stand_ins`](super::screening::Screening::reached_stand_ins)), then the
+//! ([`StandIns::reached`](super::stand_ins::StandIns::reached)), then the
 //! correction q_{n+1} = q* + D⁻¹Cᵀμ and the multipliers' work μᵀC(q_{n+1} − q_{n−1}) from it.
 
 use super::{Corrected, Valued};
@@ -65,7 +65,7 @@ impl<'a> Valued<'a> {
             );
             if !(report.status.is_solved()
                 && stand_ins
-                && step.screening.reached_stand_ins(
+                && step.screening.stand_ins.reached(
                     step.data,
                     next,
                     active_set.y(),

@@ -5,6 +5,7 @@
 
 use super::pass::{lane_dot, Recurrence};
 use super::reach::ReachMetric;
+use super::remainder::BlockRemainder;
 use crate::contact::{ContactRows, DenseDelassus};
 use crate::modes::{ModeShapes, Modes};
 use crate::scene::DampingCoefficients;
@@ -106,9 +107,12 @@ pub(in crate::scheme) struct ModalData {
     /// [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT) modes, whose values keep their bits, otherwise
     /// [`STAND_IN_LEVELS`] past the last screening level and short of n.
     pub(super) stand_in_levels: Vec<usize>,
-    /// ‖(C_H)_i‖₂ per stand-in level and constrained vertex, H being the modes from the level's
-    /// mode count on.
-    pub(super) stand_in_row_norms: Vec<Vec<f64>>,
+    /// With stand-in levels: the mode count to which a stand-in that the contact solve reaches
+    /// at a free vertex is summed before its full row ([`REACHED_LEVEL`] when short of n).
+    pub(super) reached_level: Option<usize>,
+    /// With stand-in levels: the blockwise bound on the part of a value past a level, which is
+    /// every stand-in's slack.
+    pub(super) remainder: Option<BlockRemainder>,
     /// ‖C_i‖₂ per constrained vertex: scales the round-off margin of the screening.
     pub(super) row_norms: Vec<f64>,
     /// The norm in which the reach of a proof is measured.
@@ -186,7 +190,8 @@ impl ModalData {
             high_row_norms,
             levels,
             stand_in_levels: Vec::new(),
-            stand_in_row_norms: Vec::new(),
+            reached_level: None,
+            remainder: None,
             reach_metric,
             row_norms,
             load,
@@ -194,30 +199,28 @@ impl ModalData {
             outputs,
         };
         if large {
-            data.set_stand_in_levels(&STAND_IN_LEVELS);
+            data.set_stand_in_levels(&STAND_IN_LEVELS, REACHED_LEVEL);
         }
         data
     }
 
     /// Sets the stand-in levels to the mode counts of `levels` past the last screening level and
-    /// short of n (increasing), with their remainder weights ‖(C_H)_i‖₂.
-    pub(super) fn set_stand_in_levels(&mut self, levels: &[usize]) {
-        let (m, n) = (self.c.nrows(), self.c.ncols());
+    /// short of n (increasing), the level of a reached stand-in to `reached` (when past them and
+    /// short of n), and the blockwise remainder bound from the last screening level on with
+    /// boundaries at all of them.
+    pub(super) fn set_stand_in_levels(&mut self, levels: &[usize], reached: usize) {
+        let n = self.c.ncols();
         let last_level = self.levels[self.levels.len() - 1];
         self.stand_in_levels = levels
             .iter()
             .copied()
             .filter(|&l| l > last_level && l < n)
             .collect();
-        self.stand_in_row_norms = self
-            .stand_in_levels
-            .iter()
-            .map(|&from| {
-                (0..m)
-                    .map(|i| self.c.row(i).subcols(from, n - from).norm_l2())
-                    .collect()
-            })
-            .collect();
+        let deepest = self.stand_in_levels.last().copied().unwrap_or(last_level);
+        self.reached_level = (reached > deepest && reached < n).then_some(reached);
+        let mut depths = self.stand_in_levels.clone();
+        depths.extend(self.reached_level);
+        self.remainder = Some(BlockRemainder::new(&self.c, last_level, &depths));
     }
 
     /// The system of the start step or of the others.
@@ -256,11 +259,19 @@ const REACH_WEIGHT_POWER: f64 = 1.0;
 
 /// The numbers of low modes over which a large basis sums, level by level, the value of a
 /// vertex that the screening's last level leaves unproven, for its stand-in
-/// ([`Screening::values`](super::screening::Screening::values)). On Argyris 28 × 20 (5 257 modes,
+/// ([`StandIns::values`](super::stand_ins::StandIns::values)). On Argyris 28 × 20 (5 257 modes,
 /// 588 vertices) the forced 35 Hz scene's steps with a QP left ~200 vertices to exact values:
 /// 128 modes prove about half of those inside, 512 a tenth more, 1 024 and 2 048 almost none more
-/// (the rest lie past a bound in the prediction).
+/// (the rest lie past a bound in the prediction; measured with one Cauchy–Schwarz product as the
+/// slack, before the blockwise bound).
 pub(super) const STAND_IN_LEVELS: [usize; 2] = [128, 512];
+
+/// The number of low modes over which a large basis sums a stand-in that the contact solve's
+/// answer reaches at a free vertex (or that lies within its slack of a bound when nothing else
+/// needs a contact solve), before reading its full row: on Argyris 28 × 20 such a stand-in is
+/// settled there in two cases of three, and a step with a QP reads full rows at 42 vertices
+/// instead of 62 (50 when summed to 1 024 modes).
+pub(super) const REACHED_LEVEL: usize = 2048;
 
 /// Number of low modes of the last screening level.
 pub(super) const SCREENING_MODES: usize = SCREENING_LEVELS[SCREENING_LEVELS.len() - 1];

@@ -31,14 +31,15 @@
 //! an obstacle, and stand-ins (a partial sum with its remainder bound as slack) at vertices some
 //! level proves inside; the solve evaluates a stand-in in full only when its answer reaches it.
 //! On a basis larger than [`DENSE_LIMIT`](crate::modes::DENSE_LIMIT), whose rows of C are long
-//! (5 257 modes on Argyris 28 × 20), every vertex gets a stand-in, summed over up to 512 modes
-//! ([`STAND_IN_LEVELS`](data::STAND_IN_LEVELS)): a step with a QP then reads the full rows of the
-//! vertices in contact only.
+//! (5 257 modes on Argyris 28 × 20), a vertex gets a stand-in summed over up to 512 modes
+//! ([`STAND_IN_LEVELS`](data::STAND_IN_LEVELS)) with a blockwise remainder bound as its slack,
+//! and keeps it even unproven when the step needs a contact solve anyway: a step with a QP then
+//! reads full rows mostly at the vertices in contact.
 //!
 //! Files: `data.rs` holds the precomputed [`ModalData`] and its read-only field maps,
-//! `screening.rs` the screening and the values of a prediction it cannot prove inside,
-//! `correction.rs` the contact solve and the correction of the prediction, `pass.rs` and
-//! `reach.rs` as above. A step borrows the backend through its stages, each holding what the
+//! `screening.rs` the screening, `stand_ins.rs` the values of a prediction it cannot prove
+//! inside, `remainder.rs` the bound on the rest of a partial sum, `correction.rs` the contact
+//! solve and the correction of the prediction, `pass.rs` and `reach.rs` as above. A step borrows the backend through its stages, each holding what the
 //! step has found so far: [`ModalBackend::predict`] gives a [`Predicted`] (with the reach's
 //! distance), whose screening either proves it or gives an [`Unproven`] (with ‖q‖²), whose
 //! values give a [`Valued`] (with whether any is a stand-in), whose solve gives a [`Corrected`]
@@ -48,7 +49,9 @@ mod correction;
 mod data;
 mod pass;
 mod reach;
+mod remainder;
 mod screening;
+mod stand_ins;
 #[cfg(test)]
 mod tests;
 
@@ -191,7 +194,7 @@ pub(in crate::scheme) struct Unproven<'a> {
 /// A step whose prediction's constrained values are formed, ready for the contact solve.
 pub(in crate::scheme) struct Valued<'a> {
     step: Step<'a>,
-    /// Whether some value is a proven-inside stand-in (the screening's `stand_in` says which).
+    /// Whether some value is a stand-in (the screening's `stand_ins` say which).
     stand_ins: bool,
 }
 

@@ -3,7 +3,8 @@
 //! stand-in values against the solve from the exact values.
 
 use super::data::{FreeDofData, ModalData, SCREENING_MODES};
-use super::screening::{high_mode_part, Screen, Screening};
+use super::screening::{Screen, Screening};
+use super::stand_ins::high_mode_part;
 use super::{ModalBackend, Predicted, Valued};
 use crate::contact::{BoundState, ContactRows, PdasSettings};
 use crate::modes::{ModeShapes, Modes};
@@ -142,10 +143,10 @@ fn near_contact_shortcuts_are_bit_identical() {
         assert_eq!(bits(&levelled.low_values), bits(&shortcut.low_values));
         let mut out = vec![0.0; data.c.nrows()];
         shortcut.values(&data, norm_squared, &q, box_, true, &mut out);
-        let stand_ins = shortcut.stand_in.iter().filter(|&&s| s).count();
+        let stand_ins = shortcut.stand_ins.stand_in.iter().filter(|&&s| s).count();
         mixed += usize::from(stand_ins > 0 && stand_ins < data.c.nrows());
         for (i, &value) in out.iter().enumerate() {
-            let expected = if shortcut.stand_in[i] {
+            let expected = if shortcut.stand_ins.stand_in[i] {
                 shortcut.low_values[i]
             } else {
                 shortcut.low_values[i] + high_mode_part(&data, i, &q)
@@ -172,7 +173,7 @@ fn near_contact_shortcuts_are_bit_identical() {
 #[test]
 fn stand_in_values_give_the_exact_solution() {
     let data = synthetic_data();
-    let [solved, with_stand_ins, repeated] = compare_stand_ins_with_exact(data.clone(), data);
+    let [solved, with_stand_ins, repeated, _] = compare_stand_ins_with_exact(data.clone(), data);
     // The cases exercise every path (1518, 1236 and 494 when written).
     assert!(solved > 500, "{solved} contact solves");
     assert!(
@@ -190,30 +191,36 @@ fn stand_in_values_give_the_exact_solution() {
 fn stand_in_levels_give_the_exact_solution() {
     let mut data = synthetic_data();
     let large = Arc::get_mut(&mut data).expect("a fresh data set");
-    large.set_stand_in_levels(&[40, 50]);
+    large.set_stand_in_levels(&[40, 50], 55);
     large.step.c_t_scaled = None;
-    let [solved, with_stand_ins, repeated] = compare_stand_ins_with_exact(data, synthetic_data());
+    let [solved, with_stand_ins, repeated, settled] =
+        compare_stand_ins_with_exact(data, synthetic_data());
     // Every solve starts from stand-ins and the ones past a bound must be reached (1518, 1518
     // and 1518 when written).
     assert!(solved > 500, "{solved} contact solves");
     assert_eq!(with_stand_ins, solved);
     assert!(repeated > 500, "{repeated} solves that reached a stand-in");
+    assert!(
+        settled > 100,
+        "{settled} solves that settled a stand-in at the reached level"
+    );
 }
 
 /// The values of a large basis decide feasibility exactly: a stand-in lies within its slack of
 /// the exact value, and when they are asked for without unproven stand-ins, or when none of them
 /// lies past a bound by more than its slack, every value is exact or a stand-in proven inside
-/// its bounds, so that the values lie within the bounds exactly when the prediction does.
+/// its bounds, so that the values lie within the bounds exactly when the prediction does. Some
+/// stand-ins are settled at the reached level, others summed to the end.
 #[test]
 fn large_basis_values_decide_feasibility_exactly() {
     let mut data = synthetic_data();
     let large = Arc::get_mut(&mut data).expect("a fresh data set");
-    large.set_stand_in_levels(&[40, 50]);
+    large.set_stand_in_levels(&[40, 50], 55);
     let (n, m) = (data.c.ncols(), data.c.nrows());
     let (lower, upper) = (-0.05, 0.04);
     let heights = flat(m);
     let box_ = bounds(lower, upper, &heights);
-    let (mut kept, mut exact_ones) = (0, 0);
+    let (mut kept, mut settled, mut exact_ones) = (0, 0, 0);
     for case in 0..2000 {
         let q = swept_prediction(case, n);
         let mut exact = vec![0.0; m];
@@ -226,19 +233,26 @@ fn large_basis_values_decide_feasibility_exactly() {
         for keep_unproven in [false, true] {
             let mut out = vec![0.0; m];
             screening.values(&data, norm_squared, &q, box_, keep_unproven, &mut out);
-            let slack = |i: usize| screening.slack[i];
-            let proven = |i: usize| out[i] - slack(i) >= lower && out[i] + slack(i) <= upper;
+            let stand_ins = &screening.stand_ins;
+            let proven = |i: usize| {
+                out[i] - stand_ins.slack[i] >= lower && out[i] + stand_ins.slack[i] <= upper
+            };
             let certainly_past = (0..m).any(|i| {
-                screening.stand_in[i] && (out[i] + slack(i) < lower || out[i] - slack(i) > upper)
+                stand_ins.stand_in[i]
+                    && (out[i] + stand_ins.slack[i] < lower || out[i] - stand_ins.slack[i] > upper)
             });
             for i in 0..m {
-                if screening.stand_in[i] {
-                    assert!((exact[i] - out[i]).abs() <= slack(i), "case {case}, {i}");
+                if stand_ins.stand_in[i] {
+                    assert!(
+                        (exact[i] - out[i]).abs() <= stand_ins.slack[i],
+                        "case {case}, {i}"
+                    );
                     assert!(
                         keep_unproven && certainly_past || proven(i),
                         "case {case}, {i}"
                     );
                     kept += usize::from(!proven(i));
+                    settled += usize::from(stand_ins.depth[i] == 55);
                 } else {
                     assert!((exact[i] - out[i]).abs() <= 1e-12, "case {case}, {i}");
                     exact_ones += 1;
@@ -252,20 +266,21 @@ fn large_basis_values_decide_feasibility_exactly() {
             );
         }
     }
-    println!("{kept} unproven stand-ins kept, {exact_ones} exact values");
-    assert!(kept > 100 && exact_ones > 100);
+    println!("{kept} unproven stand-ins kept, {settled} settled at the reached level, {exact_ones} exact");
+    assert!(kept > 100 && settled > 100 && exact_ones > 100);
 }
 
 /// Runs the contact solves of the stand-in tests on `data`, asserting that each gives the
 /// states, multipliers and corrected q of the solve from exact values on `reference` (the same
-/// basis); returns the counts of solves, of solves with a stand-in and of solves that reached one.
-fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>) -> [usize; 3] {
+/// basis); returns the counts of solves, of solves with a stand-in, of solves that reached one
+/// and of solves that left a stand-in summed to the reached level.
+fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>) -> [usize; 4] {
     let (n, m) = (data.c.ncols(), data.c.nrows());
     let settings = PdasSettings::default();
     let (lower, upper) = (-0.02, 0.02);
     let heights = flat(data.c.nrows());
     let box_ = bounds(lower, upper, &heights);
-    let (mut solved, mut with_stand_ins, mut repeated) = (0, 0, 0);
+    let (mut solved, mut with_stand_ins, mut repeated, mut settled) = (0, 0, 0, 0);
     for case in 0..3000 {
         let amplitude = 5e-3 * 1.1f64.powi((case % 50) as i32);
         let q: Vec<f64> = (0..n)
@@ -291,6 +306,7 @@ fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>)
         let stand_ins = valued
             .step
             .screening
+            .stand_ins
             .stand_in
             .iter()
             .filter(|&&s| s)
@@ -334,9 +350,23 @@ fn compare_stand_ins_with_exact(data: Arc<ModalData>, reference: Arc<ModalData>)
         }
         solved += 1;
         with_stand_ins += usize::from(stand_ins > 0);
-        let left = fast.screening.stand_in.iter().filter(|&&s| s).count();
+        let left = fast
+            .screening
+            .stand_ins
+            .stand_in
+            .iter()
+            .filter(|&&s| s)
+            .count();
         repeated += usize::from(left < stand_ins);
+        let reached_level = data.reached_level.unwrap_or(n);
+        settled += usize::from((0..m).any(|i| {
+            fast.screening.stand_ins.stand_in[i]
+                && fast.screening.stand_ins.depth[i] == reached_level
+        }));
     }
-    println!("{solved} solves, {with_stand_ins} with stand-ins, {repeated} repeated");
-    [solved, with_stand_ins, repeated]
+    println!(
+        "{solved} solves, {with_stand_ins} with stand-ins, {repeated} repeated, {settled} with \
+         a stand-in settled at the reached level"
+    );
+    [solved, with_stand_ins, repeated, settled]
 }

@@ -119,7 +119,7 @@ impl Run {
             match prediction.screen(bounds) {
                 Screened::Proven(fields) => return Route::Screened(fields),
                 // The active-set method on the position law solves from stand-ins, which the
-                // solve evaluates where its answer reaches them (`Unproven::solve_values`); the
+                // solve settles where its answer reaches them (`Unproven::solve_values`); the
                 // persistent law bounds the vertices the prediction takes past an obstacle, so
                 // its stand-ins are proven inside (`Unproven::values`); Newton's law reads the
                 // exact prediction of every vertex.
