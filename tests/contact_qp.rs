@@ -16,6 +16,7 @@ use plate_impact::contact::clarabel::{
     polish, reference_settings, solve_box_qp, solve_box_qp_with,
 };
 use plate_impact::contact::eliminated::EliminatedSystem;
+use plate_impact::contact::first_guess::FirstGuess;
 use plate_impact::contact::sparse_contact::{SparseContact, Subproblem};
 use plate_impact::contact::{
     solve_box_lcp, ActiveSetSolver, BoundState, BoxQp, ContactRows, DelassusCache, DenseDelassus,
@@ -524,6 +525,55 @@ fn warm_start_from_the_solution_takes_one_iteration() {
         assert_eq!(warm.iterations, 1);
         assert!(max_diff(solver.lambda(), &lambda) <= 1e-12 * max_abs(&lambda));
     }
+}
+
+/// The method's answer does not depend on where it starts: from the first guess
+/// (`contact::first_guess`), and solved again from the factor an earlier solve of the same W
+/// left (`ActiveSetSolver::solve_again`, after y* changed at a few values, as when a step's
+/// stand-ins are evaluated), it finds the active set and λ of a cold start. And the guess
+/// saves iterations on these problems.
+#[test]
+fn the_first_guess_and_a_kept_factor_change_only_the_path() {
+    let mut rng = StdRng::seed_from_u64(23);
+    let settings = PdasSettings::default();
+    let (mut from_cold, mut from_guess) = (0, 0);
+    for trial in 0..40 {
+        let m = rng.random_range(5..=60);
+        let w = random_w(&mut rng, m, 0.3);
+        let (mut y_star, lo, hi) = random_data(&mut rng, m);
+        let mut dw = DenseDelassus::new(m, w);
+        let mut cold = vec![BoundState::Free; m];
+        let mut solver = ActiveSetSolver::new();
+        let report = solver.solve(&mut dw, &y_star, &lo, &hi, &mut cold, &settings);
+        assert!(report.status.is_solved(), "trial {trial}");
+        from_cold += report.iterations;
+        let lambda = solver.lambda().to_vec();
+        let mut guessed = vec![BoundState::Free; m];
+        FirstGuess::new().guess(&mut dw, &y_star, &lo, &hi, &mut guessed);
+        let mut guided = ActiveSetSolver::new();
+        let report = guided.solve(&mut dw, &y_star, &lo, &hi, &mut guessed, &settings);
+        assert!(report.status.is_solved(), "trial {trial}");
+        from_guess += report.iterations;
+        assert_eq!(guessed, cold, "trial {trial}");
+        assert!(max_diff(guided.lambda(), &lambda) <= 1e-12 * max_abs(&lambda));
+        // A few values change; solved again from the kept factor and afresh.
+        for i in (0..m).step_by(7) {
+            y_star[i] += rng.random_range(-0.5..0.5) * GAP;
+        }
+        let mut again = guessed.clone();
+        let report = guided.solve_again(&mut dw, &y_star, &lo, &hi, &mut again, &settings);
+        assert!(report.status.is_solved(), "trial {trial}");
+        let mut fresh = guessed;
+        let report = solver.solve(&mut dw, &y_star, &lo, &hi, &mut fresh, &settings);
+        assert!(report.status.is_solved(), "trial {trial}");
+        assert_eq!(again, fresh, "trial {trial}");
+        let scale = max_abs(solver.lambda());
+        assert!(max_diff(guided.lambda(), solver.lambda()) <= 1e-12 * scale);
+    }
+    assert!(
+        from_guess < from_cold,
+        "{from_guess} iterations from the guess, {from_cold} cold"
+    );
 }
 
 fn max_abs(v: &[f64]) -> f64 {

@@ -91,9 +91,23 @@ pub struct DelassusWorkingSet<'a, D: Delassus + ?Sized> {
 
 impl<'a, D: Delassus + ?Sized> DelassusWorkingSet<'a, D> {
     /// The subproblems of W with unconstrained values `y_star`, in `work` (whose factor starts
-    /// empty: see [`super::delassus`] for why none is kept from an earlier solve).
+    /// empty: see [`super::delassus`] for why none is kept from an earlier step).
     pub fn new(w: &'a mut D, y_star: &'a [f64], work: &'a mut DelassusWorkspace) -> Self {
         work.factor.reset(w.dim());
+        Self::keeping_factor(w, y_star, work)
+    }
+
+    /// As [`Self::new`], keeping the factor that `work` holds, which must be of a block of this
+    /// same W (as after an earlier solve of the same step): a second solve of a step whose data
+    /// changed at a few values starts from the active block the first one left.
+    pub fn keeping_factor(
+        w: &'a mut D,
+        y_star: &'a [f64],
+        work: &'a mut DelassusWorkspace,
+    ) -> Self {
+        if work.factor.dim() != w.dim() {
+            work.factor.reset(w.dim());
+        }
         work.bound_of.resize(w.dim(), 0.0);
         DelassusWorkingSet { w, y_star, work }
     }
@@ -321,6 +335,28 @@ impl ActiveSetSolver {
         let mut work = std::mem::take(&mut self.delassus);
         let report = {
             let mut subproblems = DelassusWorkingSet::new(w, y_star, &mut work);
+            self.solve_with(&mut subproblems, y_star, lower, upper, states, settings)
+        };
+        self.delassus = work;
+        report
+    }
+
+    /// As [`Self::solve`], on the same operator `w` as the last solve, starting from the factor
+    /// of the active block that solve left ([`DelassusWorkingSet::keeping_factor`]): for a solve
+    /// again within one step, whose data changed at a few values only. The factor is then
+    /// updated, not formed again, and it depends on nothing but the step's own data.
+    pub fn solve_again<D: Delassus + ?Sized>(
+        &mut self,
+        w: &mut D,
+        y_star: &[f64],
+        lower: &[f64],
+        upper: &[f64],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+    ) -> PdasReport {
+        let mut work = std::mem::take(&mut self.delassus);
+        let report = {
+            let mut subproblems = DelassusWorkingSet::keeping_factor(w, y_star, &mut work);
             self.solve_with(&mut subproblems, y_star, lower, upper, states, settings)
         };
         self.delassus = work;

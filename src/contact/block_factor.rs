@@ -17,7 +17,7 @@
 //! A full factorisation costs k³/3 flops against about k² per changed index, so a PDAS iteration
 //! that moves a few indices costs O(k²) instead of O(k³), and a working set that repeats from one
 //! time step to the next (a plate resting on an obstacle) is factored once per step (the factor is
-//! not kept across solves, see [`super::delassus`]).
+//! not kept from one step to the next, see [`super::delassus`]).
 
 use super::Delassus;
 use faer::dyn_stack::{MemStack, StackReq};
@@ -100,6 +100,11 @@ impl ActiveBlockFactor {
     /// Counts of the factor work so far.
     pub fn stats(&self) -> FactorStats {
         self.stats
+    }
+
+    /// m, the dimension of the operator it was last [reset](Self::reset) for.
+    pub fn dim(&self) -> usize {
+        self.position.len()
     }
 
     /// Forgets the factor and prepares for an operator of dimension `m`: call once at the start

@@ -8,9 +8,10 @@
 //! one is dropped and recomputed if it is needed again.
 //!
 //! W is constant while A and the constrained dofs are (a whole run), yet the active-set solver
-//! factors its active block afresh at every solve: a factor kept from earlier steps would make a
-//! step's round-off depend on the steps before it, which the stepper's saved state does not hold,
-//! and a restored state must continue bit for bit as the run it was taken from.
+//! factors its active block afresh at every step (a second solve within a step may continue from
+//! the first one's factor): a factor kept from earlier steps would make a step's round-off depend
+//! on the steps before it, which the stepper's saved state does not hold, and a restored state
+//! must continue bit for bit as the run it was taken from.
 
 /// Column access to the Delassus operator W = B A⁻¹ Bᵀ (m × m, symmetric positive definite).
 pub trait Delassus {

@@ -14,8 +14,8 @@
 //! Two solvers, one exact each:
 //! * [`active_set`]: the fast path, in the Delassus space y = B x. Given the unconstrained solution
 //!   x* = A⁻¹ b, y* = B x* and W = B A⁻¹ Bᵀ, it solves the box LCP y = y* + W λ by a primal–dual
-//!   active-set (semismooth Newton) method warm-started from the previous step, with a primal
-//!   active-set safeguard. Each iteration solves the subproblem of one working set, either on W
+//!   active-set (semismooth Newton) method warm-started from the previous step (or from a
+//!   first guess of the new active set, [`first_guess`]), with a primal active-set safeguard. Each iteration solves the subproblem of one working set, either on W
 //!   ([`delassus`]: columns of W, precomputed or cached within a memory budget, and the factor of
 //!   the active block updated as indices enter and leave, [`block_factor`]; the caller then sets
 //!   x = x* + A⁻¹ Bᵀ λ) or in the primal variables with the active dofs eliminated from a sparse A
@@ -32,6 +32,7 @@ pub mod cholesky;
 pub mod clarabel;
 pub mod delassus;
 pub mod eliminated;
+pub mod first_guess;
 pub mod ordering;
 pub mod rows;
 pub mod sparse_contact;

@@ -1,9 +1,11 @@
 //! The modal contact solve: the active-set method on the precomputed Delassus operator
-//! W = C D⁻¹ Cᵀ from the prediction's values, repeated while its answer reaches a stand-in
+//! W = C D⁻¹ Cᵀ from the prediction's values (on a large basis from a first guess of the active
+//! set, [`crate::contact::first_guess`]), repeated while its answer reaches a stand-in
 //! ([`StandIns::reached`](super::stand_ins::StandIns::reached)), then the
 //! correction q_{n+1} = q* + D⁻¹Cᵀμ and the multipliers' work μᵀC(q_{n+1} − q_{n−1}) from it.
 
 use super::{Corrected, Valued};
+use crate::contact::first_guess::FirstGuess;
 use crate::contact::{ActiveSetSolver, BoundState, PdasReport, PdasSettings};
 
 /// The contact solve's workspace and the active-set method, whose factor of the active block
@@ -17,6 +19,8 @@ pub(super) struct Corrector {
     unconstrained: Vec<f64>,
     /// The active-set method on W, with the factor of its active block.
     active_set: ActiveSetSolver,
+    /// The first guess of the active set (large bases).
+    first_guess: FirstGuess,
 }
 
 impl Corrector {
@@ -26,6 +30,7 @@ impl Corrector {
             y_star: Vec::with_capacity(m),
             unconstrained: vec![0.0; n],
             active_set: ActiveSetSolver::new(),
+            first_guess: FirstGuess::new(),
         }
     }
 }
@@ -51,11 +56,27 @@ impl<'a> Valued<'a> {
             y_star,
             unconstrained,
             active_set,
+            first_guess,
         } = &mut *step.corrector;
         y_star.clear();
         y_star.extend_from_slice(values);
+        // A large basis starts the method from a first guess of the active set instead of the
+        // last step's, and solves again from the factor its first solve left; a small basis
+        // keeps its bits.
+        let large = step.data.remainder.is_some();
+        if large {
+            first_guess.guess(&mut &system.delassus, y_star, lower, upper, states);
+        }
+        let mut again = false;
         let report = loop {
-            let report = active_set.solve(
+            let solve = if again && large {
+                ActiveSetSolver::solve_again
+            } else {
+                ActiveSetSolver::solve
+            };
+            again = true;
+            let report = solve(
+                active_set,
                 &mut &system.delassus,
                 y_star,
                 lower,
