@@ -16,7 +16,9 @@
 //!    bit, so every round takes the same steps): one line per round, then the median CPU µs of a
 //!    step with a QP, beside the floor of such a step on a modal backend, the rows of C = BΦ of
 //!    the vertices in contact (one row of n doubles each) read once at the rate of a streaming
-//!    read of a buffer the size of C, measured in the same run.
+//!    read of a buffer the size of C, measured in the same run; then, on a modal backend, the
+//!    threads measurement: those rows' products with a vector on one thread and split between
+//!    two, and the cost of starting a thread (`threaded_row_reads`).
 //!
 //! `--verify NAME` runs a case beside the clarabel reference (`solver.qp = clarabel`) until ten
 //! steps with a QP have been compared, and prints the largest difference of the constrained
@@ -562,12 +564,14 @@ fn run_rounds(case: &Case, rounds: usize) {
     );
     let mut qp_us = Vec::with_capacity(rounds);
     let mut floor_us = 0.0;
+    let (mut contact_rows, mut largest_active) = (0.0, 0);
     for round in 1..=rounds {
         stepper.restore(&initial).unwrap();
         let t = run_steps(&mut stepper, s);
         let cpu_us = |(count, _, cpu): (usize, f64, f64)| 1e6 * cpu / count.max(1) as f64;
         let rows_per_qp = t.active_sum as f64 / t.qp.0.max(1) as f64;
         floor_us = 1e6 * rows_per_qp * row_bytes as f64 / bandwidth;
+        (contact_rows, largest_active) = (rows_per_qp, t.most_active);
         let outputs = stepper.output_point_displacements()[1].map(|u| format!("{u:.15e}"));
         println!(
             "round {round}: {} steps with a QP at {:.1} CPU µs ({:.1} wall), {} contact-free at \
@@ -595,6 +599,57 @@ fn run_rounds(case: &Case, rounds: usize) {
         );
     }
     println!();
+    if stepper.linear_backend() == LinearChoice::Modal {
+        // The rows a step with a QP needs on average, and as many as its largest active set.
+        for rows in [contact_rows.round() as usize, largest_active] {
+            let [one, two, spawn] = threaded_row_reads(m, n, rows);
+            println!(
+                "threads: {rows} rows of C times q: 1 thread {:.1} µs, 2 threads {:.1} µs \
+                 (ratio {:.2}); spawning and joining a thread alone {:.1} µs (wall, medians)",
+                1e6 * one,
+                1e6 * two,
+                two / one,
+                1e6 * spawn
+            );
+        }
+    }
+}
+
+/// Wall seconds of the dot products (faer's, as the stand-ins' partial sums) of `rows` rows of
+/// an m × n buffer (row-major, the layout of C's rows in the modal data) with a vector of n, on one thread and split between two (the
+/// second a scoped thread started per call, as a step without a pool of its own would start
+/// it), and of starting and joining that thread alone: the measurement behind the threads
+/// decision in docs/speed.md. The rows are spread over the buffer, as the vertices in contact
+/// are over the plate, and split by index, so each row's sum is the one-thread sum.
+fn threaded_row_reads(m: usize, n: usize, rows: usize) -> [f64; 3] {
+    let c = vec![1.0_f64; m * n];
+    let q = vec![1.0_f64; n];
+    let rows = rows.clamp(1, m);
+    let chosen: Vec<usize> = (0..rows).map(|k| k * m / rows).collect();
+    let dots = |rows: &[usize], out: &mut [f64]| {
+        for (o, &i) in out.iter_mut().zip(rows) {
+            *o = faer::RowRef::from_slice(&c[i * n..(i + 1) * n]) * faer::ColRef::from_slice(&q);
+        }
+    };
+    let mut out = vec![0.0; chosen.len()];
+    let reps = 2000;
+    let one = time_median(reps, || {
+        dots(&chosen, &mut out);
+        std::hint::black_box(&out);
+    });
+    let half = chosen.len() / 2;
+    let two = time_median(reps, || {
+        let (first, second) = out.split_at_mut(half);
+        std::thread::scope(|scope| {
+            scope.spawn(|| dots(&chosen[half..], second));
+            dots(&chosen[..half], first);
+        });
+        std::hint::black_box(&out);
+    });
+    let spawn = time_median(reps, || {
+        std::thread::scope(|scope| drop(scope.spawn(|| ())))
+    });
+    [one, two, spawn]
 }
 
 /// Bytes per second of a streaming read of a buffer of `bytes` bytes (summed with eight
