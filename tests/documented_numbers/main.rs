@@ -94,13 +94,13 @@ fn share_claims() -> claims::Claims {
     let pct = |n: usize| 100.0 * n as f64 / t.total as f64;
     let unchecked = t.total - t.claimed - t.inputs - t.meshes;
     c.value(
-        "Of the {8.4} thousand numbers in the prose",
+        "Of the {8.6} thousand numbers in the prose",
         t.total as f64 / 1000.0,
     );
     c.value("{9} % are checked against committed data", pct(t.claimed));
     c.value("{13} % are inputs", pct(t.inputs));
-    c.value("{12} % are sides of mesh names", pct(t.meshes));
-    c.value("the other {65} %", pct(unchecked));
+    c.value("{13} % are sides of mesh names", pct(t.meshes));
+    c.value("the other {66} %", pct(unchecked));
     c
 }
 

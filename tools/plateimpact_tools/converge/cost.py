@@ -12,23 +12,39 @@ from plateimpact_tools.fmu_dask import fmu_dir
 # The codes of `solver.backend` (docs/fmu.md).
 BACKENDS = {1: "modal", 2: "sparse"}
 
-# The cost model of a run (`run_cost`), per (mesh.element, backend): its set-up, (s, p), and its
-# internal step, (µs, p), each c·(n/1000)^p in the free dofs n; plus a communication step with the
-# study's reads. Measured through the FMU on the preset forced-35hz-damped at Δt = h = 1e-4 s
-# (`python -m plateimpact_tools.converge.step_cost`; a 2-core development machine, load average
-# about 2): per internal step 6.6 → 35 µs from Argyris 10 × 7 to 20 × 10 (708 → 1951 free dofs,
-# modal), 1655 µs on 21 × 12 (2428, sparse), 3224 on 30 × 15 and 6002 on 40 × 20; FVS 12 → 70 µs
-# from 14 × 10 to 30 × 15 (462 → 1440, modal), 1360 on 40 × 20 (2520, sparse) and 3224 on 60 × 30.
-# The modal set-up (the eigen-decomposition) grows like n^2.7 and takes 4.9 s at 1951 free dofs;
-# the sparse one is small against its steps and left out. Only ratios of the model enter the
-# estimate (`Study.estimate`), so a slower machine scales both sides.
+# Above this many free dofs the modal backend takes other paths (docs/speed.md, "Fine modal
+# meshes"): the eigenpairs by src/modes/large.rs instead of the dense eigensolver (DENSE_LIMIT of
+# src/modes/mod.rs, = MODAL_AUTO_LIMIT of src/backend_choice.rs), the steps with stand-ins
+# (src/scheme/modal/). The FMU reaches them only with a modal damping ratio; the auto choice is
+# sparse there.
+DENSE_LIMIT = 2000
+
+# The cost model of a run (`run_cost`), per (mesh.element, regime) (`regime`): its set-up (s, p),
+# its internal step (µs, p) and the part of its communication step with the study's reads that
+# grows with the plate (µs, p), each c·(n/1000)^p in the free dofs n; the rest of a communication
+# step, doStep and the reads through fmpy, is COMMUNICATION_STEP_US. Measured through the FMU on
+# the preset forced-35hz-damped at Δt = 1e-4 s, above 2000 free dofs on the modal backend with
+# damping.modal_ratio = 0.01 (`python -m plateimpact_tools.converge.step_cost`, commit aa1a10e, a
+# 2-core development machine at a load average of about 2 from another job; CPU time): Argyris
+# set-up 0.19 → 3.6 s from 10 × 7 to 20 × 10 (708 → 1951 free dofs, dense eigensolver), 2.7 → 15.5 s
+# from 20 × 14 to 28 × 20 (2675 → 5257, src/modes/large.rs), internal step 1.8 → 10 µs and
+# 16 → 42 µs, 703 µs on 21 × 12 (2428, sparse) and 2886 µs on 40 × 20 (7501); FVS set-up 0.13 →
+# 1.7 s from 14 × 10 to 30 × 15 (462 → 1440) and 5.6 → 22 s from 40 × 25 to 50 × 34 (3120 → 5250),
+# internal step 2.7 → 20 µs and 76 → 219 µs, 607 µs on 40 × 20 (2520, sparse). A communication
+# step costs 6.9 µs on Argyris 2 × 1 but 46 µs on 10 × 7, 340 µs on 28 × 20 and 375 µs on 21 × 12
+# (sparse): each output read recomputes the displacements at every output point (`last_step` in
+# src/fmi/plate/mod.rs), so at h = Δt it costs more than the step. The sparse set-up is small
+# against its steps and left out. Only ratios of the model enter the estimate (`Study.estimate`),
+# so a slower machine scales both sides.
 RUN_COST = {
-    (1, "modal"): ((0.738, 2.74), (11.6, 1.64)),
-    (1, "sparse"): ((0.0, 0.0), (605.0, 1.14)),
-    (2, "modal"): ((1.13, 2.22), (37.2, 1.62)),
-    (2, "sparse"): ((0.0, 0.0), (499.0, 1.09)),
+    (1, "modal"): ((0.519, 2.90), (3.23, 1.70), (57.1, 1.08)),  # 708–1951 free dofs
+    (1, "modal-large"): ((0.202, 2.60), (4.14, 1.40), (67.7, 0.96)),  # 2675–5257
+    (1, "sparse"): ((0.0, 0.0), (231.0, 1.25), (132.0, 1.13)),  # 2428–7501
+    (2, "modal"): ((0.713, 2.28), (10.1, 1.77), (61.2, 1.15)),  # 462–1440
+    (2, "modal-large"): ((0.269, 2.67), (7.28, 2.03), (56.7, 1.22)),  # 3120–5250
+    (2, "sparse"): ((0.0, 0.0), (196.0, 1.22), (116.0, 1.10)),  # 2520–5580
 }
-COMMUNICATION_STEP_US = 9.23  # doStep and the reads through fmpy, on Argyris 2 × 1
+COMMUNICATION_STEP_US = 6.89  # doStep and the reads through fmpy, on Argyris 2 × 1
 
 
 @functools.cache
@@ -66,15 +82,38 @@ def plate_size(fmu_path: str | Path, start_values: dict[str, Any]) -> tuple[int,
     return _plate_size(str(fmu_path), tuple(sorted(start_values.items())))
 
 
+def regime(size: tuple[int, str]) -> str:
+    """The regime of RUN_COST a plate of `size` (free dofs, backend) runs in: the backend, and on
+    the modal one "modal-large" above DENSE_LIMIT free dofs."""
+    free, backend = size
+    return "modal-large" if backend == "modal" and free > DENSE_LIMIT else backend
+
+
+def setup_seconds(size: tuple[int, str], element: int) -> float:
+    """The model's CPU seconds of the set-up of a plate of `element` and `size` (RUN_COST)."""
+    (c, p), _, _ = RUN_COST[(element, regime(size))]
+    return c * (size[0] / 1000) ** p
+
+
+def step_us(size: tuple[int, str], element: int) -> float:
+    """The model's CPU µs of an internal step of a plate of `element` and `size` (RUN_COST)."""
+    _, (c, p), _ = RUN_COST[(element, regime(size))]
+    return c * (size[0] / 1000) ** p
+
+
+def communication_us(size: tuple[int, str], element: int) -> float:
+    """The model's CPU µs of a communication step with the study's reads of a plate of `element`
+    and `size`: COMMUNICATION_STEP_US and the part that grows with the plate (RUN_COST)."""
+    _, _, (c, p) = RUN_COST[(element, regime(size))]
+    return COMMUNICATION_STEP_US + c * (size[0] / 1000) ** p
+
+
 def run_cost(size: tuple[int, str], element: int, dt: float, simulated: float, h: float) -> float:
     """The model's CPU seconds (RUN_COST) of a run of `simulated` seconds at Δt = `dt` of a plate
     of `element` whose `size` is (free dofs, backend) (`plate_size`), outputs read every `h`: the
     set-up, simulated/Δt internal steps and simulated/h communication steps."""
-    free, backend = size
-    (setup, p_setup), (step, p_step) = RUN_COST[(element, backend)]
-    n = free / 1000
     return (
-        setup * n**p_setup
-        + 1e-6 * step * n**p_step * simulated / dt
-        + 1e-6 * COMMUNICATION_STEP_US * simulated / h
+        setup_seconds(size, element)
+        + 1e-6 * step_us(size, element) * simulated / dt
+        + 1e-6 * communication_us(size, element) * simulated / h
     )

@@ -41,9 +41,9 @@ from plateimpact_tools.windows import QUANTITIES, value_and_spread
 # Quantities that always take part in telling states apart, besides those asked for: whether and
 # how often the plate impacts, how much it moves and how much energy it holds.
 GROUPING = ["impact_rate", "rms_corner", "mean_energy"]
-# The mesh ladder's refinement factor per direction: 2.25× the cells per level, about 3.8× the
-# CPU per modal step by `cost.run_cost` (n^1.6), where halving the cell size (2) would quadruple
-# the cells and cost about 10×; the ladder then lands nearer the coarsest mesh that passes, while
+# The mesh ladder's refinement factor per direction: 2.25× the cells per level, about 4× the CPU
+# per modal internal step by `cost.run_cost` (n^1.7), where halving the cell size (2) would
+# quadruple the cells and cost about 10×; the ladder then lands nearer the coarsest mesh that passes, while
 # an error of order p in the cell size still shrinks to 1.5^-p per level (2/3 for p = 1), a change
 # the rule can resolve.
 MESH_FACTOR = 1.5
@@ -195,13 +195,17 @@ class Study:
     def estimate(self, known, setting):
         """CPU seconds of one run of `setting` from the runs of the run setting `known`: their
         cost times the ratio of the two settings' model costs (`cost.run_cost`), each on the free
-        dofs and the backend the FMU reports for its mesh (`size`). Within the modal backend a
-        step grows like n^1.6 and the set-up like n^2.2–2.7; across the switch an internal step
-        costs some 50 to 100 times more (Argyris 20 × 10, 1951 free dofs, modal: 35 µs; 21 × 12,
-        2428, sparse: 1655 µs). Halving Δt doubles the internal steps but not the set-up nor the
-        communication steps (h is fixed). On small meshes fmpy's cost per output dominates, which
-        the model's communication step does not fully hold (Argyris 4 × 2 → 9 × 5, 5.6× the
-        cells, 2.1× the CPU), so there the estimate errs towards stopping early."""
+        dofs and the backend the FMU reports for its mesh (`size`). Within the modal backend an
+        internal step grows like n^1.4–2.0 and the set-up like n^2.3–2.9, with laws of their own
+        above 2000 free dofs (`cost.regime`: the large basis's eigensolver and stand-ins); across
+        the switch to sparse an internal step costs some 70 times more (Argyris 20 × 10, 1951 free
+        dofs, modal: 10 µs; 21 × 12, 2428, sparse: 703 µs). A communication step with the reads
+        grows with the plate too (46 µs on Argyris 10 × 7, 375 µs on 21 × 12). Halving Δt doubles
+        the internal steps but not the set-up nor the communication steps (h is fixed). The study
+        reads no outputs in the transient, which the model does not know: it overestimates a run
+        by up to the transient's share of its communication steps' reads (Argyris 14 × 8 at
+        Δt = h = 1e-4 s with the default windows: 3.2 CPU s for 2.6 measured), most of which
+        cancels in the ratio."""
         e, simulated, h = self.element, self.simulated, self.h
         return self.cost(known) * (
             run_cost(self.size(setting), e, setting[2], simulated, h)
