@@ -189,6 +189,8 @@ pub struct Simulation {
     interpolated: OnceCell<Outputs>,
     /// The displacement field at the communication point and its rate.
     field: OnceCell<VertexField>,
+    /// The rates of the output points at the communication point ([`Simulation::displacement_rates`]).
+    rates: OnceCell<[f64; OUTPUT_POINTS]>,
 }
 
 impl Simulation {
@@ -226,6 +228,7 @@ impl Simulation {
             grid_outputs: OnceCell::new(),
             interpolated: OnceCell::new(),
             field: OnceCell::new(),
+            rates: OnceCell::new(),
             stepper,
         })
     }
@@ -370,11 +373,14 @@ impl Simulation {
     /// d/dt of the displacement outputs `corner1`, `corner2`, `edge_mid` and of the probes at the
     /// communication time (m/s): the slope of their interpolation, (y_N − y_{N−1})/Δt over the
     /// grid interval (t_{N−1}, t_N] that holds the communication time ([`interpolation`]); 0 at
-    /// t_start.
+    /// t_start. Computed on the first call after each change: a host reads them with every
+    /// output, and each costs two products of the field with the output points' rows.
     pub fn displacement_rates(&self) -> [f64; OUTPUT_POINTS] {
-        let [previous, current] = self.stepper.output_point_displacements();
-        let dt = self.grid.step;
-        std::array::from_fn(|k| interpolation::rate(previous[k], current[k], dt))
+        *self.rates.get_or_init(|| {
+            let [previous, current] = self.stepper.output_point_displacements();
+            let dt = self.grid.step;
+            std::array::from_fn(|k| interpolation::rate(previous[k], current[k], dt))
+        })
     }
 
     /// The displacement at every mesh vertex at the communication time, and its rate, computed on
@@ -402,6 +408,7 @@ impl Simulation {
         self.grid_outputs = OnceCell::new();
         self.interpolated = OnceCell::new();
         self.field = OnceCell::new();
+        self.rates = OnceCell::new();
     }
 
     /// Where a communication step of size `h` (s) from the communication time ends on the grid;
@@ -489,6 +496,7 @@ impl Simulation {
         self.point = CommunicationPoint::OnGrid;
         self.interpolated = OnceCell::new();
         self.field = OnceCell::new();
+        self.rates = OnceCell::new();
         let mut reached = steps;
         for i in 1..=steps {
             let ahead = i == steps && end.between.is_some();
@@ -545,6 +553,7 @@ impl Simulation {
         };
         self.interpolated = OnceCell::new();
         self.field = OnceCell::new();
+        self.rates = OnceCell::new();
     }
 
     /// Moves the obstacles (tunable); see [`Stepper::set_obstacles`]. The cached outputs and
