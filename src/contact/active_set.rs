@@ -332,13 +332,7 @@ impl ActiveSetSolver {
         states: &mut [BoundState],
         settings: &PdasSettings,
     ) -> PdasReport {
-        let mut work = std::mem::take(&mut self.delassus);
-        let report = {
-            let mut subproblems = DelassusWorkingSet::new(w, y_star, &mut work);
-            self.solve_with(&mut subproblems, y_star, lower, upper, states, settings)
-        };
-        self.delassus = work;
-        report
+        self.solve_delassus(w, y_star, [lower, upper], states, settings, false)
     }
 
     /// As [`Self::solve`], on the same operator `w` as the last solve, starting from the factor
@@ -354,9 +348,26 @@ impl ActiveSetSolver {
         states: &mut [BoundState],
         settings: &PdasSettings,
     ) -> PdasReport {
+        self.solve_delassus(w, y_star, [lower, upper], states, settings, true)
+    }
+
+    /// [`Self::solve`], or [`Self::solve_again`] when `keep_factor`.
+    fn solve_delassus<D: Delassus + ?Sized>(
+        &mut self,
+        w: &mut D,
+        y_star: &[f64],
+        [lower, upper]: [&[f64]; 2],
+        states: &mut [BoundState],
+        settings: &PdasSettings,
+        keep_factor: bool,
+    ) -> PdasReport {
         let mut work = std::mem::take(&mut self.delassus);
         let report = {
-            let mut subproblems = DelassusWorkingSet::keeping_factor(w, y_star, &mut work);
+            let mut subproblems = if keep_factor {
+                DelassusWorkingSet::keeping_factor(w, y_star, &mut work)
+            } else {
+                DelassusWorkingSet::new(w, y_star, &mut work)
+            };
             self.solve_with(&mut subproblems, y_star, lower, upper, states, settings)
         };
         self.delassus = work;
