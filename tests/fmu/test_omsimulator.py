@@ -1,7 +1,8 @@
 """Both FMUs in OMSimulator, the OpenModelica co-simulation environment, when the environment
 variable OMSIMULATOR names its binary (skipped, saying why, otherwise; docs/fmu.md "Engines tried"
-says how it was built): the default experiments, every shipped parameter set through an SSP, and
-the plate on the shaker as an SSP with a feedback loop.
+says how to build it): the default experiments, the paper's shipped parameter sets through an
+SSP, the general model's sets, which OMSimulator cannot import, and the plate on the shaker as an
+SSP with a feedback loop.
 
 OMSimulator prints its results with 12 significant digits: fmpy's numbers printed alike must be the
 same numbers, and a run of a shipped scene must also meet the FMU's packaged reference result
@@ -9,6 +10,7 @@ under its stated tolerances. The FMI 3.0 FMU runs through an SSP whose result fi
 scalar variables, since OMSimulator reads the array `plate.displacement` as a scalar."""
 
 import io
+import xml.etree.ElementTree as ET
 import zipfile
 
 import numpy as np
@@ -25,6 +27,11 @@ from test_reference import assert_matches
 # the variable width of the component plate, and fails to set it.
 PLATE = "PlateImpact"
 SCENE_NAMES = ["energy", "forced", "forced-30hz", "forced-35hz", "forced-35hz-damped"]
+# The shipped sets of the general model: they set String parameters away from their defaults.
+GENERAL_SCENE_NAMES = ["stud-corner", "clamped-panel", "inclined-support"]
+SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
+# OMSimulator 3.0 imports an SSV's Real, Integer and Boolean values and logs this for any other.
+NO_STRINGS = "Unknown ParameterBinding-type"
 # The coupled run: the example's plate damping, 0.3 s at 1 ms (about 30 impacts).
 COUPLED_PLATE = {
     "damping.mass_proportional": 2 * 0.01 * 2 * np.pi * 53.8,
@@ -109,10 +116,29 @@ def test_the_fmi3_default_experiment_runs_through_an_ssp_recording_the_scalars(f
     assert_printed_alike(result, PLATE, simulate_fmu(fmu3_path), outputs)
 
 
-@pytest.mark.parametrize("scene", SCENE_NAMES)
-def test_each_shipped_parameter_set_runs_through_an_ssp(fmu, scene, tmp_path):
-    """The experiment of the FMU's own experiments file: its SSV bound to the component without a
-    prefix, as FMI-LS-REF applies it; the result meets the packaged reference and is fmpy's."""
+def without_default_strings(ssv, fmu):
+    """The SSV `ssv` (bytes) without its String parameters, each of which must hold the FMU's
+    start value: OMSimulator 3.0 cannot import them (NO_STRINGS), and leaving them out sets the
+    same values."""
+    ET.register_namespace("ssv", SSV)
+    root = ET.fromstring(ssv)
+    starts = {v.name: v.start for v in read_model_description(fmu).modelVariables}
+    parameters = root.find(f"{{{SSV}}}Parameters")
+    for parameter in list(parameters):
+        string = parameter.find(f"{{{SSV}}}String")
+        if string is not None:
+            name = parameter.get("name")
+            assert string.get("value") == starts[name], (name, string.get("value"), starts[name])
+            parameters.remove(parameter)
+    stripped = ET.tostring(root, encoding="utf-8", xml_declaration=True)
+    assert errors("ssv", stripped) == []
+    return stripped
+
+
+def shipped_set_ssp(fmu, scene, tmp_path, ssv_of=lambda ssv: ssv):
+    """An SSP of the experiment of the FMU's own experiments file for `scene`: its SSV, through
+    `ssv_of`, bound to the component without a prefix, as FMI-LS-REF applies it. (path, start,
+    stop, step, SSV file name, reference CSV bytes)."""
     experiment = experiments(fmu)[scene]
     start, stop, step = horizon(experiment)
     source = experiment.find("Parameters").get("source")
@@ -127,7 +153,7 @@ def test_each_shipped_parameter_set_runs_through_an_ssp(fmu, scene, tmp_path):
         )
     )
     with zipfile.ZipFile(fmu) as z:
-        ssv = z.read(f"{LS_REF}/{source}")
+        ssv = ssv_of(z.read(f"{LS_REF}/{source}"))
         reference_csv = z.read(f"{LS_REF}/{experiment.find('References').get('source')}")
     ssp = oms.write_ssp(
         tmp_path / f"{scene}.ssp",
@@ -138,6 +164,17 @@ def test_each_shipped_parameter_set_runs_through_an_ssp(fmu, scene, tmp_path):
             "signalFilter.xml": oms.signal_filter([(PLATE, n) for n in outputs]).encode(),
         },
     )
+    return ssp, start, stop, step, source, reference_csv
+
+
+@pytest.mark.parametrize("scene", SCENE_NAMES)
+def test_each_shipped_parameter_set_runs_through_an_ssp(fmu, scene, tmp_path):
+    """The experiment of the FMU's own experiments file, its String parameters (the defaults)
+    left out: the result meets the packaged reference and is fmpy's."""
+    ssp, start, stop, step, source, reference_csv = shipped_set_ssp(
+        fmu, scene, tmp_path, lambda ssv: without_default_strings(ssv, fmu)
+    )
+    outputs = scalar_outputs(fmu)
     result, _ = oms.run(ssp, tmp_path, stop, step)
     reference = np.genfromtxt(io.BytesIO(reference_csv), delimiter=",", names=True, deletechars="")
     named = np.zeros(len(result["time"]), dtype=reference.dtype)
@@ -154,6 +191,18 @@ def test_each_shipped_parameter_set_runs_through_an_ssp(fmu, scene, tmp_path):
         output=outputs,
     )
     assert_printed_alike(result, PLATE, expected, outputs)
+
+
+@pytest.mark.parametrize("scene", GENERAL_SCENE_NAMES)
+def test_the_general_model_sets_need_strings_that_omsimulator_cannot_import(
+    fmu_path, scene, tmp_path
+):
+    """The limit docs/fmu.md states: the shipped sets of the general model give `plate.clamp` or
+    an obstacle's profile as ssv:String, which OMSimulator 3.0 refuses to import, so it cannot
+    run those scenes from an SSV (fmpy and the C API can)."""
+    ssp, _, stop, step, _, _ = shipped_set_ssp(fmu_path, scene, tmp_path)
+    with pytest.raises(AssertionError, match=NO_STRINGS):
+        oms.run(ssp, tmp_path, stop, step)
 
 
 def coupled_ssp(plate_fmu, shaker, tmp_path, name):
