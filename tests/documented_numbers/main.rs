@@ -98,7 +98,7 @@ fn share_claims() -> claims::Claims {
         t.total as f64 / 1000.0,
     );
     c.value("{9} % are checked against committed data", pct(t.claimed));
-    c.value("{13} % are inputs", pct(t.inputs));
+    c.value("{12} % are inputs", pct(t.inputs));
     c.value("{13} % are sides of mesh names", pct(t.meshes));
     c.value("the other {66} %", pct(unchecked));
     c

@@ -22,29 +22,35 @@ DENSE_LIMIT = 2000
 # The cost model of a run (`run_cost`), per (mesh.element, regime) (`regime`): its set-up (s, p),
 # its internal step (µs, p) and the part of its communication step with the study's reads that
 # grows with the plate (µs, p), each c·(n/1000)^p in the free dofs n; the rest of a communication
-# step, doStep and the reads through fmpy, is COMMUNICATION_STEP_US. Measured through the FMU on
-# the preset forced-35hz-damped at Δt = 1e-4 s, above 2000 free dofs on the modal backend with
-# damping.modal_ratio = 0.01 (`python -m plateimpact_tools.converge.step_cost`, commit aa1a10e, a
-# 2-core development machine at a load average of about 2 from another job; CPU time): Argyris
-# set-up 0.19 → 3.6 s from 10 × 7 to 20 × 10 (708 → 1951 free dofs, dense eigensolver), 2.7 → 15.5 s
-# from 20 × 14 to 28 × 20 (2675 → 5257, src/modes/large.rs), internal step 1.8 → 10 µs and
-# 16 → 42 µs, 703 µs on 21 × 12 (2428, sparse) and 2886 µs on 40 × 20 (7501); FVS set-up 0.13 →
-# 1.7 s from 14 × 10 to 30 × 15 (462 → 1440) and 5.6 → 22 s from 40 × 25 to 50 × 34 (3120 → 5250),
-# internal step 2.7 → 20 µs and 76 → 219 µs, 607 µs on 40 × 20 (2520, sparse). A communication
-# step costs 6.9 µs on Argyris 2 × 1 but 46 µs on 10 × 7, 340 µs on 28 × 20 and 375 µs on 21 × 12
-# (sparse): each output read recomputes the displacements at every output point (`last_step` in
-# src/fmi/plate/mod.rs), so at h = Δt it costs more than the step. The sparse set-up is small
-# against its steps and left out. Only ratios of the model enter the estimate (`Study.estimate`),
-# so a slower machine scales both sides.
+# step is COMMUNICATION_STEP_US, that of Argyris 2 × 1. Measured through the FMU on the preset
+# forced-35hz-damped at Δt = 1e-4 s, above 2000 free dofs on the modal backend with
+# damping.modal_ratio = 0.01 (`.venv/bin/python -m plateimpact_tools.converge.step_cost`, commit
+# 0388242, 7 December 2026, a 2-core development machine at a load average of about 1.5 with
+# another job; CPU time): Argyris set-up 0.19 → 3.7 s from 10 × 7 to 20 × 10 (708 → 1951 free
+# dofs, dense eigensolver), 2.4 → 15.4 s from 20 × 14 to 28 × 20 (2675 → 5257,
+# src/modes/large.rs), internal step 2.0 → 9.1 µs and 13.6 → 40.5 µs, 710 µs on 21 × 12 (2428,
+# sparse) and 2815 µs on 40 × 20 (7501); FVS set-up 0.13 → 1.8 s from 14 × 10 to 30 × 15
+# (462 → 1440) and 5.7 → 23 s from 40 × 25 to 50 × 34 (3120 → 5250), internal step 2.7 → 20 µs
+# and 66 → 185 µs, 607 µs on 40 × 20 (2520, sparse). A communication step costs 5.7 µs on
+# Argyris 2 × 1, 14 µs on 10 × 7, 32 µs on 20 × 10, 85 µs on 28 × 20 and 264 µs on 21 × 12
+# (sparse); FVS 12 µs on 14 × 10, 158 µs on 50 × 34. The growing law is half of it or more on
+# every mesh fitted (51 % on FVS 14 × 10, 60 % on Argyris 10 × 7, 93 % on 28 × 20), so it
+# stays. It is doStep's: without reads (blocks alternated with the fit's, once) a communication
+# step costs 9 µs on 10 × 7, 65 µs on 28 × 20, 222 µs on 21 × 12 (every doStep forms and checks
+# the outputs at its end, `unsound_outputs` in src/fmi/plate/mod.rs), while the reads, served
+# from the FMU's cache since cc0e905, cost 4–5 µs through fmpy on every mesh (before it each read
+# recomputed the output points' rates: 340 µs per communication step on 28 × 20). The sparse
+# set-up is small against its steps and left out. Only ratios of the model enter the estimate
+# (`Study.estimate`), so a slower machine scales both sides.
 RUN_COST = {
-    (1, "modal"): ((0.519, 2.90), (3.23, 1.70), (57.1, 1.08)),  # 708–1951 free dofs
-    (1, "modal-large"): ((0.202, 2.60), (4.14, 1.40), (67.7, 0.96)),  # 2675–5257
-    (1, "sparse"): ((0.0, 0.0), (231.0, 1.25), (132.0, 1.13)),  # 2428–7501
-    (2, "modal"): ((0.713, 2.28), (10.1, 1.77), (61.2, 1.15)),  # 462–1440
-    (2, "modal-large"): ((0.269, 2.67), (7.28, 2.03), (56.7, 1.22)),  # 3120–5250
-    (2, "sparse"): ((0.0, 0.0), (196.0, 1.22), (116.0, 1.10)),  # 2520–5580
+    (1, "modal"): ((0.522, 2.92), (3.24, 1.49), (12.3, 1.09)),  # 708–1951 free dofs
+    (1, "modal-large"): ((0.166, 2.73), (2.81, 1.62), (11.2, 1.17)),  # 2675–5257
+    (1, "sparse"): ((0.0, 0.0), (242.0, 1.22), (98.9, 1.08)),  # 2428–7501
+    (2, "modal"): ((0.727, 2.34), (10.1, 1.78), (16.2, 1.32)),  # 462–1440
+    (2, "modal-large"): ((0.264, 2.69), (7.01, 1.97), (10.1, 1.62)),  # 3120–5250
+    (2, "sparse"): ((0.0, 0.0), (195.0, 1.23), (64.5, 1.21)),  # 2520–5580
 }
-COMMUNICATION_STEP_US = 6.89  # doStep and the reads through fmpy, on Argyris 2 × 1
+COMMUNICATION_STEP_US = 5.69  # doStep and the reads through fmpy, on Argyris 2 × 1
 
 
 @functools.cache

@@ -23,9 +23,9 @@ modal damping ratio: those meshes run with damping.modal_ratio = 0.01 (ζ = 1 %,
 study's) on top of the preset's Rayleigh damping.
 
 Without --check it measures MESHES, prints a CSV row per mesh, then RUN_COST to stderr: about
-3 CPU minutes on a 2-core development machine. With --check it measures CHECK, meshes the fit did
-not use (and Argyris 28 × 20 again, in this separate run), and prints the model's figures beside
-the measured ones as a Markdown table (docs/converge/README.md): about 1.5 CPU minutes.
+2.5 CPU minutes on a 2-core development machine. With --check it measures CHECK, meshes the fit
+did not use (and Argyris 28 × 20 again, in this separate run), and prints the model's figures
+beside the measured ones as a Markdown table (docs/converge/README.md): about 1.5 CPU minutes.
 """
 
 import argparse

@@ -196,16 +196,16 @@ class Study:
         """CPU seconds of one run of `setting` from the runs of the run setting `known`: their
         cost times the ratio of the two settings' model costs (`cost.run_cost`), each on the free
         dofs and the backend the FMU reports for its mesh (`size`). Within the modal backend an
-        internal step grows like n^1.4–2.0 and the set-up like n^2.3–2.9, with laws of their own
+        internal step grows like n^1.5–2.0 and the set-up like n^2.3–2.9, with laws of their own
         above 2000 free dofs (`cost.regime`: the large basis's eigensolver and stand-ins); across
-        the switch to sparse an internal step costs some 70 times more (Argyris 20 × 10, 1951 free
-        dofs, modal: 10 µs; 21 × 12, 2428, sparse: 703 µs). A communication step with the reads
-        grows with the plate too (46 µs on Argyris 10 × 7, 375 µs on 21 × 12). Halving Δt doubles
-        the internal steps but not the set-up nor the communication steps (h is fixed). The study
-        reads no outputs in the transient, which the model does not know: it overestimates a run
-        by up to the transient's share of its communication steps' reads (Argyris 14 × 8 at
-        Δt = h = 1e-4 s with the default windows: 3.2 CPU s for 2.6 measured), most of which
-        cancels in the ratio."""
+        the switch to sparse an internal step costs some 80 times more (Argyris 20 × 10, 1951 free
+        dofs, modal: 9.1 µs; 21 × 12, 2428, sparse: 710 µs). A communication step with the reads
+        grows with the plate too, doStep forming and checking the outputs (14 µs on Argyris
+        10 × 7, 264 µs on 21 × 12). Halving Δt doubles the internal steps but not the set-up nor
+        the communication steps (h is fixed). The study reads no outputs in the transient, which
+        the model does not know: it overestimates a run by about the transient's reads, 4–5 µs a
+        communication step (Argyris 14 × 8 at Δt = h = 1e-4 s with the default windows: 1.49 CPU s
+        for 1.41 measured), most of which cancels in the ratio."""
         e, simulated, h = self.element, self.simulated, self.h
         return self.cost(known) * (
             run_cost(self.size(setting), e, setting[2], simulated, h)
