@@ -399,7 +399,7 @@ fn errors_end_in_terminated_and_an_fmu_state_continues() {
 /// An fmi3Error after fmi3Reset ends in Terminated without bringing back the run before the
 /// reset (the model keeps its simulation to reuse the assembled plate): the time is the new
 /// start time, the outputs are not available, and the FMU state taken there can be set again.
-/// Found by the random FMI 3.0 call sequences (`tests/fmi_c_api.rs`).
+/// Found by the random FMI 3.0 call sequences (`host-check/tests/fmi_c_api.rs`).
 #[test]
 fn an_error_after_a_reset_does_not_bring_back_the_run_before_it() {
     let mut inst = stepping(0.005);
@@ -421,7 +421,7 @@ fn an_error_after_a_reset_does_not_bring_back_the_run_before_it() {
 /// An fmi3Error before initialization ends in Terminated with parameters that are each valid
 /// but not yet together (here a base amplitude beyond the gap, which initialization would
 /// refuse): the FMU state taken there can be set again. Found by the random FMI 3.0 call
-/// sequences (`tests/fmi_c_api.rs`).
+/// sequences (`host-check/tests/fmi_c_api.rs`).
 #[test]
 fn an_fmu_state_taken_after_an_error_before_initialization_can_be_set() {
     let mut inst = small();
